@@ -1,0 +1,156 @@
+"""Component specs as data, and the base class every component type derives from.
+
+A component type declares its ports (with a physical domain), parameters (SI unit,
+default, validity limits, identification bounds, description, source equation), states
+and exposed variables as class-level tuples; its physics is one short ``equations``
+method written against :class:`hydrocli.model.context.Context`. The builder never needs
+to know a component's internals, and ``hydro components``, the JSON Schema and the docs
+tables come from these same specs.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+from typing import TYPE_CHECKING, ClassVar
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..model.context import Context
+
+
+class Domain(str, Enum):
+    """Physical domain of a port: across/through variables and their SI units."""
+
+    HYDRAULIC = "hydraulic"          # across: pressure [Pa], through: volume flow [m^3/s]
+    TRANSLATIONAL = "translational"  # across: velocity [m/s] (position [m]), through: force [N]
+    ROTATIONAL = "rotational"        # across: angular velocity [rad/s] (angle [rad]), through: torque [N m]
+    SIGNAL = "signal"                # a value; no through variable
+
+    @property
+    def across(self) -> str:
+        return {"hydraulic": "p", "translational": "v", "rotational": "w", "signal": "y"}[self.value]
+
+    @property
+    def position(self) -> str | None:
+        return {"translational": "x", "rotational": "theta"}.get(self.value)
+
+    @property
+    def across_unit(self) -> str:
+        return {"hydraulic": "Pa", "translational": "m/s", "rotational": "rad/s", "signal": "1"}[self.value]
+
+    @property
+    def position_unit(self) -> str:
+        return {"translational": "m", "rotational": "rad"}.get(self.value, "1")
+
+    @property
+    def through_unit(self) -> str:
+        return {"hydraulic": "m^3/s", "translational": "N", "rotational": "N*m", "signal": "1"}[self.value]
+
+    @property
+    def capacitance_name(self) -> str:
+        return {"hydraulic": "volume", "translational": "mass", "rotational": "inertia"}.get(self.value, "-")
+
+    @property
+    def nominal_across(self) -> float:
+        """Typical magnitude, used to scale absolute tolerances."""
+        return {"hydraulic": 1e5, "translational": 1e-2, "rotational": 1e-2, "signal": 1.0}[self.value]
+
+    @property
+    def nominal_position(self) -> float:
+        return {"translational": 1e-3, "rotational": 1e-3}.get(self.value, 1.0)
+
+
+H, T, R, S = Domain.HYDRAULIC, Domain.TRANSLATIONAL, Domain.ROTATIONAL, Domain.SIGNAL
+
+
+@dataclass(frozen=True)
+class Port:
+    name: str
+    domain: Domain
+    description: str = ""
+    optional: bool = False     # may be left unconnected (e.g. an optional reference signal)
+    direction: str = ""        # signal ports: "in" or "out"
+
+
+@dataclass(frozen=True)
+class Param:
+    """One parameter: SI unit, default, hard validity limits and identification bounds."""
+
+    name: str
+    unit: str
+    default: float | None
+    description: str
+    source: str = ""
+    min: float | None = None           # hard validity limit (inclusive), e.g. 0 for a volume
+    max: float | None = None
+    bounds: tuple[float, float] | None = None  # default identification bounds (SI)
+    fluid: str | None = None           # take the machine's fluid property of this name by default
+    structural: bool = False           # changes the equations' structure; fixed at build time
+    vector: bool = False               # a list of values (table, polynomial)
+    positive: bool = False             # strictly > 0
+
+    def check(self, value) -> str | None:
+        """A problem text when ``value`` is not valid for this parameter, else None."""
+        values = value if isinstance(value, (list, tuple)) else [value]
+        for v in values:
+            if v != v:
+                return f"{self.name} is NaN"
+            if self.positive and v <= 0:
+                return f"{self.name} must be > 0 (got {v:g} {self.unit})"
+            if self.min is not None and v < self.min:
+                return f"{self.name} must be ≥ {self.min:g} {self.unit} (got {v:g})"
+            if self.max is not None and v > self.max:
+                return f"{self.name} must be ≤ {self.max:g} {self.unit} (got {v:g})"
+        return None
+
+
+@dataclass(frozen=True)
+class StateSpec:
+    name: str
+    unit: str
+    description: str
+    initial: float = 0.0
+    nominal: float = 1.0   # typical magnitude (absolute tolerance scale)
+
+
+@dataclass(frozen=True)
+class VariableSpec:
+    """A named quantity the component computes and exposes (usable in outputs)."""
+
+    name: str
+    unit: str
+    description: str
+
+
+class Component:
+    """Base class of all component types. Subclasses set the class attributes and
+    implement :meth:`equations`; they hold no state of their own."""
+
+    type: ClassVar[str] = ""
+    family: ClassVar[str] = ""
+    description: ClassVar[str] = ""
+    source: ClassVar[str] = ""
+    ports: ClassVar[tuple[Port, ...]] = ()
+    parameters: ClassVar[tuple[Param, ...]] = ()
+    states: ClassVar[tuple[StateSpec, ...]] = ()
+    variables: ClassVar[tuple[VariableSpec, ...]] = ()
+
+    def equations(self, c: "Context") -> None:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def check(self, values: dict[str, float]) -> list[str]:
+        """Cross-parameter checks (each returns a readable problem); per-parameter limits
+        are checked generically from the specs."""
+        return []
+
+    # -- spec helpers ----------------------------------------------------------------
+    @classmethod
+    def port(cls, name: str) -> Port | None:
+        return next((p for p in cls.ports if p.name == name), None)
+
+    @classmethod
+    def param(cls, name: str) -> Param | None:
+        return next((p for p in cls.parameters if p.name == name), None)
+
+    @classmethod
+    def state_spec(cls, name: str) -> StateSpec | None:
+        return next((s for s in cls.states if s.name == name), None)

@@ -1,0 +1,26 @@
+"""Hydraulic capacitance: a fixed volume of compressible oil (hose, block, accumulator dead volume)."""
+from __future__ import annotations
+
+from ..base import Component, H, Param, Port
+from ..registry import register
+from .fluid import effective_bulk_modulus
+
+
+@register
+class Volume(Component):
+    """C = V/β_e on its node, so that C·dp/dt = Σq (seed 004 eqs. 4–7 without the piston term)."""
+
+    type = "volume"
+    family = "hydraulic"
+    description = "Lumped oil volume (capacitance V/β) on a node"
+    source = "seed 004 eqs. 6–7; seed 002 §3 (fluid capacitance)"
+    ports = (Port("P", H, "node"),)
+    parameters = (
+        Param("V", "m^3", 1e-4, "oil volume", positive=True, bounds=(1e-7, 1e-1)),
+        Param("beta", "Pa", 1.5e9, "oil bulk modulus", fluid="beta", positive=True, bounds=(1e8, 2.5e9)),
+        Param("air", "1", 0.0, "entrained air volume fraction at 1 bar", min=0.0, max=0.5, bounds=(0.0, 0.1)),
+    )
+
+    def equations(self, c):
+        beta = effective_bulk_modulus(c.p.beta, c.across("P"), c.p.air if c.active("air") else 0.0)
+        c.capacitance("P", c.p.V / beta)

@@ -1,0 +1,87 @@
+"""Translational elements: mass, spring, damper, force source."""
+from __future__ import annotations
+
+from ..base import Component, Param, Port, S, StateSpec, T, VariableSpec
+from ..registry import register
+
+
+@register
+class Mass(Component):
+    """m·dv/dt = ΣF on its node (seed 004 eq. 8); an optional constant force (e.g. weight
+    on an inclined or vertical axis) acts in +x."""
+
+    type = "mass"
+    family = "mechanical"
+    description = "Point mass on a translational node (with an optional constant force such as weight)"
+    source = "seed 004 eq. 8"
+    ports = (Port("m", T, "the node the mass moves with"),)
+    parameters = (
+        Param("m", "kg", 1.0, "moved mass", positive=True, bounds=(1e-3, 1e5)),
+        Param("F_const", "N", 0.0, "constant force in +x (e.g. −m·g on a vertical axis)"),
+    )
+    variables = (VariableSpec("x", "m", "position"), VariableSpec("v", "m/s", "velocity"),
+                 VariableSpec("a", "m/s^2", "acceleration"))
+
+    def equations(self, c):
+        c.capacitance("m", c.p.m)
+        c.through("m", -c.p.F_const)
+        c.let("x", c.position("m"))
+        c.let("v", c.across("m"))
+
+
+@register
+class Spring(Component):
+    """Linear spring between a and b; its force is a state: dF/dt = k·(v_a − v_b)
+    (the through variable of an inductive element, linear-graph convention)."""
+
+    type = "spring"
+    family = "mechanical"
+    description = "Linear spring (force as state)"
+    source = "linear-graph inductive element (seed 002 §3); seed 000 eq. 2"
+    ports = (Port("a", T, "end a"), Port("b", T, "end b"))
+    parameters = (
+        Param("k", "N/m", 1e5, "stiffness", positive=True, bounds=(1.0, 1e10)),
+        Param("F0", "N", 0.0, "initial tension force (+ pulls a toward b)"),
+    )
+    states = (StateSpec("F", "N", "spring tension", nominal=100.0),)
+
+    def equations(self, c):
+        f = c.state("F")
+        c.der("F", c.p.k * (c.across("a") - c.across("b")))
+        c.through("a", f)
+        c.through("b", -f)
+
+
+@register
+class Damper(Component):
+    """Viscous damper F = c·(v_a − v_b) (seed 002: B_bm, B_sk)."""
+
+    type = "damper"
+    family = "mechanical"
+    description = "Linear viscous damper"
+    source = "seed 004 eq. 9; seed 002 §4 (B)"
+    ports = (Port("a", T, "end a"), Port("b", T, "end b"))
+    parameters = (Param("c", "N*s/m", 1e3, "damping coefficient", min=0.0, bounds=(0.0, 1e7)),)
+    variables = (VariableSpec("F", "N", "damper force"),)
+
+    def equations(self, c):
+        f = c.let("F", c.p.c * (c.across("a") - c.across("b")))
+        c.through("a", f)
+        c.through("b", -f)
+
+
+@register
+class ForceSource(Component):
+    """External force on node a (positive in +x), constant or from a signal (F_ext, seed 004 eq. 8)."""
+
+    type = "force_source"
+    family = "mechanical"
+    description = "Ideal force source acting on a node (e.g. the recorded external load)"
+    source = "seed 004 eq. 8 (F_ext)"
+    ports = (Port("a", T, "node the force acts on"),
+             Port("F", S, "force signal [N]", optional=True, direction="in"))
+    parameters = (Param("F0", "N", 0.0, "force when the signal port is not connected"),)
+
+    def equations(self, c):
+        f = c.signal("F") if c.connected("F") else c.p.F0
+        c.through("a", -f)

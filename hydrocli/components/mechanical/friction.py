@@ -1,0 +1,55 @@
+"""Friction between two translational nodes (seed 004 eqs. 9–11, seed 000 eq. 23)."""
+from __future__ import annotations
+
+from ...model import expr as E
+from ..base import Component, H, Param, Port, T, VariableSpec
+from ..dynamics import tanh_sign
+from ..registry import register
+
+
+def friction_force(v, kv, kc, ks, vs, eps):
+    """Viscous + Coulomb + Stribeck: kv·v + (kc + ks·e^(−|v|/vs))·tanh(v/ε) (seed 004 eqs. 9–11)."""
+    return kv * v + (kc + ks * E.exp(-E.fabs(v) / vs)) * tanh_sign(v, eps)
+
+
+@register
+class Friction(Component):
+    """Direction-dependent viscous, Coulomb and Stribeck friction with tanh smoothing
+    (seed 004 eqs. 9–11: k_v^±, k_c^±, k_s^±, τ_s^±), plus an optional pressure-dependent
+    Coulomb part μ_p·A_p·(p_a + p_b) when the sensing ports pa/pb are connected
+    (seed 000 eq. 23: seal friction grows with chamber pressure)."""
+
+    type = "friction"
+    family = "mechanical"
+    description = "Asymmetric viscous/Coulomb/Stribeck friction, optional pressure dependence"
+    source = "seed 004 eqs. 9–11; seed 000 eq. 23"
+    ports = (Port("a", T, "moving side (e.g. the rod)"), Port("b", T, "fixed side (e.g. ground)"),
+             Port("pa", H, "chamber A pressure (sensed only)", optional=True),
+             Port("pb", H, "chamber B pressure (sensed only)", optional=True))
+    parameters = (
+        Param("kv_p", "N*s/m", 0.0, "viscous coefficient for v > 0", min=0.0, bounds=(0.0, 1e6)),
+        Param("kv_m", "N*s/m", 0.0, "viscous coefficient for v < 0", min=0.0, bounds=(0.0, 1e6)),
+        Param("kc_p", "N", 0.0, "Coulomb force for v > 0", min=0.0, bounds=(0.0, 1e5)),
+        Param("kc_m", "N", 0.0, "Coulomb force for v < 0", min=0.0, bounds=(0.0, 1e5)),
+        Param("ks_p", "N", 0.0, "Stribeck (breakaway excess) force for v > 0", min=0.0, bounds=(0.0, 1e5)),
+        Param("ks_m", "N", 0.0, "Stribeck force for v < 0", min=0.0, bounds=(0.0, 1e5)),
+        Param("vs_p", "m/s", 3.41e-3, "Stribeck velocity τ_s for v > 0", positive=True, bounds=(1e-5, 0.1)),
+        Param("vs_m", "m/s", 1.96e-3, "Stribeck velocity τ_s for v < 0", positive=True, bounds=(1e-5, 0.1)),
+        Param("eps", "m/s", 1e-4, "tanh smoothing velocity", positive=True),
+        Param("mu_p", "1", 0.0, "pressure-dependent friction: fraction of A_p·(p_a + p_b)", min=0.0,
+              bounds=(0.0, 0.2)),
+        Param("A_p", "m^2", 0.0, "area the pressure-dependent friction refers to", min=0.0),
+    )
+    variables = (VariableSpec("F", "N", "friction force opposing a relative to b"),)
+
+    def equations(self, c):
+        p = c.p
+        v = c.across("a") - c.across("b")
+        f_pos = friction_force(v, p.kv_p, p.kc_p, p.ks_p, p.vs_p, p.eps)
+        f_neg = friction_force(v, p.kv_m, p.kc_m, p.ks_m, p.vs_m, p.eps)
+        f = E.where(v >= 0.0, f_pos, f_neg)
+        if c.connected("pa") and c.connected("pb"):
+            f = f + p.mu_p * p.A_p * (c.across("pa") + c.across("pb")) * tanh_sign(v, p.eps)
+        f = c.let("F", f)
+        c.through("a", f)
+        c.through("b", -f)

@@ -1,0 +1,153 @@
+"""Builder: Netlist → Model (states, parameter vector, generated equations).
+
+1. every component stamps its equations through a :class:`Context`;
+2. the linear graph turns nodes into states or imposed variables (graph.topology);
+3. outputs are parsed; variables are ordered (an algebraic loop is refused);
+4. the flat equations become C and NumPy source (codegen). Parameters stay symbols, so
+   identification changes the parameter array without rebuilding.
+"""
+from __future__ import annotations
+
+import hashlib
+
+import numpy as np
+
+from ..components import registry
+from ..components.base import Domain
+from ..errors import HydroError, Location, Problem, ProblemCollector, TopologyError, UnitError
+from ..graph.topology import check_domains, node_equations
+from ..netlist.model import Netlist
+from ..units import same_dimension, to_si
+from . import expr as E
+from .codegen import Equations, order_variables
+from .context import Assembly, Context, NodeInfo
+from .model import Model, ParamInfo, StateInfo
+from .parse import ExprSyntaxError, parse_expression
+
+
+def build_model(net: Netlist) -> Model:
+    errs = ProblemCollector()
+    asm = Assembly()
+    comp_locs = {c.name: c.loc for c in net.components.values()}
+    port_domains: dict[tuple[str, str], Domain] = {}
+    for decl in net.components.values():
+        cls = registry.get(decl.type)
+        for port, node in decl.ports.items():
+            dom = cls.port(port).domain
+            port_domains[(decl.name, port)] = dom
+            info = asm.nodes.get(node)
+            if info is None:
+                info = asm.nodes[node] = NodeInfo(node, dom)
+            info.ports.append((decl.name, port))
+    for p in check_domains(asm, port_domains, comp_locs):
+        errs.problems.append(p)
+    errs.raise_if_any(TopologyError)
+
+    for decl in net.components.values():
+        cls = registry.get(decl.type)
+        structural = {p.name: decl.params[p.name].value for p in cls.parameters if p.structural}
+        values = {k: v.value for k, v in decl.params.items()}
+        free = {k for k, v in decl.params.items() if v.free}
+        ctx = Context(asm, decl.name, cls, decl.ports, values, structural, free)
+        try:
+            cls().equations(ctx)
+        except HydroError as exc:
+            errs.extend(exc)
+        except (KeyError, ValueError) as exc:
+            errs.add(f"component '{decl.name}' ({decl.type}): {exc}", decl.loc)
+    errs.raise_if_any(TopologyError)
+
+    problems, unused = node_equations(asm, set(net.inputs), set(net.components), comp_locs)
+    errs.problems.extend(problems)
+    errs.raise_if_any(TopologyError)
+    for name in unused:
+        asm.warnings.append(f"machine input '{name}' drives no signal port")
+
+    states = list(asm.states)
+    params = sorted(asm.params)
+    inputs = list(net.inputs)
+    resolve = _Resolver(asm, params, inputs)
+    output_exprs = {}
+    for o in net.outputs.values():
+        try:
+            output_exprs[o.name] = parse_expression(o.expr, resolve)
+        except ExprSyntaxError as exc:
+            errs.add(f"output '{o.name}': {exc}", o.loc, "outputs use node quantities such as "
+                     "'chamber_a.p', 'load.x', 'load.v' or component variables")
+    errs.raise_if_any(TopologyError)
+    missing = [s for s in states if s not in asm.derivatives]
+    if missing:
+        raise TopologyError(f"states without a derivative: {', '.join(missing)}")
+    eqs = Equations(states=states, params=params, inputs=inputs, outputs=list(output_exprs),
+                    variables=asm.variables, derivatives=asm.derivatives, output_exprs=output_exprs,
+                    guards=asm.guards)
+    order_variables(eqs, [eqs.derivatives[s] for s in states] + list(output_exprs.values())
+                    + [g for g, _ in asm.guards])  # refuses algebraic loops early
+
+    state_infos = [StateInfo(s, *asm.states[s]) for s in states]
+    x0 = np.array([si.initial for si in state_infos], dtype=float)
+    p_tank = net.fluid["p_tank"].value if "p_tank" in net.fluid else 1e5
+    for i, si in enumerate(state_infos):
+        if si.unit == "Pa":
+            x0[i] = p_tank
+    _apply_initial(net, state_infos, x0, errs)
+    errs.raise_if_any(UnitError)
+    param_infos = [_param_info(net, name, *asm.params[name]) for name in params]
+    out_units = {o.name: o.unit for o in net.outputs.values()}
+    return Model(name=net.name, netlist_sha=hashlib.sha256(net.text.encode()).hexdigest(),
+                 equations=eqs, states=state_infos, x0=x0, params=param_infos,
+                 input_units={k: v.unit for k, v in net.inputs.items()},
+                 input_hold={k: v.hold for k, v in net.inputs.items()},
+                 output_units=out_units, variable_units=dict(asm.variable_units),
+                 warnings=list(asm.warnings), netlist_text=net.text, file=net.file)
+
+
+def _apply_initial(net: Netlist, infos, x0, errs: ProblemCollector) -> None:
+    idx = {si.name: i for i, si in enumerate(infos)}
+    for name, pv in net.initial.items():
+        if name not in idx:
+            errs.add(f"initial value for unknown state '{name}'{registry.suggest(name, idx)}", pv.loc,
+                     "'hydro check MACHINE' lists the states")
+            continue
+        try:
+            x0[idx[name]] = to_si(pv.value, infos[idx[name]].unit, location=pv.loc, what=f"initial {name}")
+        except HydroError as exc:
+            errs.extend(exc)
+
+
+def _param_info(net: Netlist, name: str, value: float, unit: str) -> ParamInfo:
+    base = name.split("[")[0]
+    comp, _, pname = base.rpartition(".")
+    decl = net.components[comp]
+    spec = registry.get(decl.type).param(pname)
+    pv = decl.params[pname]
+    bounds = pv.bounds or spec.bounds
+    if "[" in name and bounds is None:
+        bounds = None
+    return ParamInfo(name=name, value=value, unit=unit, bounds=bounds, free=pv.free, log=pv.log,
+                     description=spec.description, display_unit=pv.unit,
+                     min=spec.min, max=spec.max, positive=spec.positive)
+
+
+class _Resolver:
+    """Resolves dotted names in output expressions."""
+
+    def __init__(self, asm: Assembly, params: list[str], inputs: list[str]):
+        self.asm, self.params, self.inputs = asm, set(params), set(inputs)
+
+    def __call__(self, name: str):
+        if name in self.asm.variables:
+            return E.var(name)
+        if name in self.asm.states:
+            return E.state(name)
+        if name in self.params:
+            return E.param(name)
+        if name in self.inputs:
+            return E.input_(name)
+        node = self.asm.nodes.get(name)
+        if node is not None and node.domain == Domain.SIGNAL and name in self.asm.variables:
+            return E.var(name)
+        return None
+
+    def known(self):
+        return list(self.asm.variables) + list(self.asm.states) + list(self.params) + list(self.inputs)

@@ -1,0 +1,162 @@
+"""The built model: named states, a parameter vector, inputs/outputs and generated code.
+
+Build once, solve many times: :meth:`Model.simulate` takes parameter arrays and input
+tables; the compiled library is built on first use and cached on disk by source hash.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import expr as E
+from .codegen import Equations, generate_c, generate_numpy
+
+
+@dataclass
+class StateInfo:
+    name: str
+    unit: str
+    initial: float
+    nominal: float
+    description: str
+
+
+@dataclass
+class ParamInfo:
+    name: str
+    value: float                 # SI value from the machine file
+    unit: str                    # SI unit
+    bounds: tuple[float, float] | None
+    free: bool
+    log: bool | None
+    description: str
+    display_unit: str | None = None
+    min: float | None = None
+    max: float | None = None
+    positive: bool = False
+
+
+@dataclass
+class Model:
+    name: str
+    netlist_sha: str
+    equations: Equations
+    states: list[StateInfo]
+    x0: np.ndarray
+    params: list[ParamInfo]
+    input_units: dict[str, str]
+    input_hold: dict[str, str]
+    output_units: dict[str, str | None]
+    variable_units: dict[str, str]
+    warnings: list[str]
+    netlist_text: str = ""
+    file: str = ""
+    _c_source: str | None = field(default=None, repr=False)
+    _compiled: object = field(default=None, repr=False)
+    _numpy_fn: object = field(default=None, repr=False)
+
+    # -- names and vectors -----------------------------------------------------------
+    @property
+    def state_names(self) -> list[str]:
+        return self.equations.states
+
+    @property
+    def param_names(self) -> list[str]:
+        return self.equations.params
+
+    @property
+    def input_names(self) -> list[str]:
+        return self.equations.inputs
+
+    @property
+    def output_names(self) -> list[str]:
+        return self.equations.outputs
+
+    @property
+    def p0(self) -> np.ndarray:
+        return np.array([p.value for p in self.params], dtype=float)
+
+    def param_index(self, name: str) -> int:
+        try:
+            return self.equations.params.index(name)
+        except ValueError:
+            from ..components.registry import suggest
+            from ..errors import NetlistError
+            raise NetlistError(f"unknown parameter '{name}'{suggest(name, self.equations.params)}",
+                               hint="'hydro check MACHINE' lists the parameters") from None
+
+    def state_index(self, name: str) -> int:
+        return self.equations.states.index(name)
+
+    def param_vector(self, overrides: dict[str, float] | None = None) -> np.ndarray:
+        p = self.p0
+        for k, v in (overrides or {}).items():
+            p[self.param_index(k)] = v
+        return p
+
+    @property
+    def free_params(self) -> list[str]:
+        return [p.name for p in self.params if p.free]
+
+    def guard_message(self, code: int) -> str:
+        g = self.equations.guards
+        return g[code - 1][1] if 1 <= code <= len(g) else f"model status {code}"
+
+    def output_unit_si(self, name: str) -> str:
+        e = self.equations.output_exprs[name]
+        if e.op == "sym":
+            kind, n = e.args
+            if kind == "var":
+                return self.variable_units.get(n, "")
+            if kind == "state":
+                return self.states[self.state_index(n)].unit
+        return self.output_units.get(name) and _si_of(self.output_units[name]) or ""
+
+    # -- generated code --------------------------------------------------------------
+    @property
+    def c_source(self) -> str:
+        if self._c_source is None:
+            self._c_source = generate_c(self.equations, self.name)
+        return self._c_source
+
+    def compiled(self):
+        """The compiled library (built on first use, cached on disk)."""
+        if self._compiled is None:
+            from ..solve.compiled import CompiledModel, build_library
+            so = build_library(self.c_source)
+            eq = self.equations
+            self._compiled = CompiledModel(so, len(eq.states), len(eq.params), len(eq.inputs), len(eq.outputs))
+        return self._compiled
+
+    def numpy_evaluate(self):
+        """``evaluate(t, x, p, u) -> (dx, y, vars, status)`` on floats or arrays."""
+        if self._numpy_fn is None:
+            ns: dict = {}
+            exec(compile(generate_numpy(self.equations), f"<hydrocli model {self.name}>", "exec"), ns)
+            self._numpy_fn = ns["evaluate"]
+        return self._numpy_fn
+
+    def evaluate_along(self, t: np.ndarray, X: np.ndarray, U: np.ndarray, p: np.ndarray | None = None) -> dict:
+        """All named variables evaluated along a trajectory (rows = samples)."""
+        p = self.p0 if p is None else p
+        _, _, vs, _ = self.numpy_evaluate()(t, list(X.T), p, list(U.T))
+        return {k: np.broadcast_to(np.asarray(v, dtype=float), t.shape).copy() for k, v in vs.items()}
+
+    def __getstate__(self):
+        d = dict(self.__dict__)
+        d["_numpy_fn"] = None
+        return d
+
+    def describe_expr(self, e: E.Expr) -> str:
+        return E.to_python(e)
+
+
+def _si_of(unit: str) -> str:
+    from ..units import registry
+    from ..units import parse_unit
+    try:
+        q = registry().Quantity(1.0, parse_unit(unit)).to_base_units()
+        return f"{q.units:~}".replace(" ", "")
+    except Exception:
+        return ""
