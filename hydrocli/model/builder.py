@@ -17,6 +17,7 @@ from ..components.base import Domain
 from ..errors import HydroError, Location, Problem, ProblemCollector, TopologyError, UnitError
 from ..graph.topology import check_domains, node_equations
 from ..netlist.model import Netlist
+from ..netlist.normal import normalised_text
 from ..units import same_dimension, to_si
 from . import expr as E
 from .codegen import Equations, order_variables
@@ -94,12 +95,13 @@ def build_model(net: Netlist) -> Model:
     errs.raise_if_any(UnitError)
     param_infos = [_param_info(net, name, *asm.params[name]) for name in params]
     out_units = {o.name: o.unit for o in net.outputs.values()}
-    return Model(name=net.name, netlist_sha=hashlib.sha256(net.text.encode()).hexdigest(),
+    normal = normalised_text(net)
+    return Model(name=net.name, netlist_sha=hashlib.sha256(normal.encode()).hexdigest(),
                  equations=eqs, states=state_infos, x0=x0, params=param_infos,
                  input_units={k: v.unit for k, v in net.inputs.items()},
                  input_hold={k: v.hold for k, v in net.inputs.items()},
                  output_units=out_units, variable_units=dict(asm.variable_units),
-                 warnings=list(asm.warnings), netlist_text=net.text, file=net.file)
+                 warnings=list(asm.warnings), netlist_text=normal, file=net.file)
 
 
 def _apply_initial(net: Netlist, infos, x0, errs: ProblemCollector) -> None:

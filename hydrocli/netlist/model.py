@@ -59,6 +59,7 @@ class Netlist:
     description: str = ""
     text: str = ""                  # the main file's text as loaded
     doc: object = None              # the main file's round-trip document (for write-back)
+    unit_defaults: dict[str, str] = field(default_factory=dict)  # dimensionality → file default unit
 
     def param_value(self, dotted: str):
         comp, _, pname = dotted.rpartition(".")

@@ -7,11 +7,13 @@ from __future__ import annotations
 
 import io
 import os
+import re
 import tempfile
 from pathlib import Path
 
 from ruamel.yaml import YAML
-from ruamel.yaml.comments import CommentedMap, CommentedSeq
+from ruamel.yaml.comments import CommentedMap, CommentedSeq, TaggedScalar
+from ruamel.yaml.constructor import DuplicateKeyError
 from ruamel.yaml.error import MarkedYAMLError
 
 from ..errors import Location, NetlistError, Problem
@@ -26,33 +28,77 @@ def _yaml() -> YAML:
 
 
 def load_text(text: str, file: str) -> CommentedMap:
-    """Parse YAML text; syntax errors become a located NetlistError."""
+    """Parse YAML text safely (plain data only); syntax errors, duplicate keys and YAML tags
+    become located NetlistErrors."""
     try:
         doc = _yaml().load(text)
+    except DuplicateKeyError as exc:
+        raise NetlistError(_duplicate_problem(exc, file)) from None
     except MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        loc = Location(file, mark.line + 1 if mark else None, mark.column + 1 if mark else None)
-        msg = (exc.problem or exc.context or "malformed YAML").strip()
-        raise NetlistError(Problem(f"malformed YAML: {msg}", loc,
-                                   "check indentation, colons after keys and matching quotes/brackets")) from None
-    except Exception as exc:  # duplicate keys and other constructor errors
-        text_exc = str(exc).strip().splitlines()
-        line = None
-        for ln in text_exc:
-            if "line" in ln:
-                import re
-                m = re.search(r"line (\d+), column (\d+)", ln)
-                if m:
-                    line = (int(m.group(1)), int(m.group(2)))
-        loc = Location(file, line[0] if line else None, line[1] if line else None)
-        first = text_exc[0] if text_exc else exc.__class__.__name__
-        raise NetlistError(Problem(f"malformed YAML: {first}", loc, "each key may appear once per mapping")) from None
+        raise NetlistError(_syntax_problem(exc, file, text)) from None
+    except Exception as exc:  # other constructor errors: never a traceback
+        raise NetlistError(Problem(f"malformed YAML: {str(exc).strip().splitlines()[0] if str(exc).strip() else exc}",
+                                   Location(file, 1, 1), "check the YAML syntax")) from None
     if doc is None:
         doc = CommentedMap()
     if not isinstance(doc, CommentedMap):
-        raise NetlistError(Problem("the file must be a YAML mapping (key: value lines) at the top level",
-                                   Location(file, 1, 1)))
+        raise NetlistError(Problem(f"the file must be a YAML mapping (key: value lines) at the top level, "
+                                   f"not a {kind(doc)}", Location(file, 1, 1),
+                                   "start with keys such as 'name:', 'components:', 'inputs:'"))
+    tagged = list(_tagged(doc, file, ""))
+    if tagged:
+        raise NetlistError(tagged)
     return doc
+
+
+def _mark_loc(mark, file: str) -> Location:
+    return Location(file, mark.line + 1, mark.column + 1) if mark else Location(file)
+
+
+def _duplicate_problem(exc, file: str) -> Problem:
+    key = re.search(r'duplicate key "([^"]*)"', str(exc.problem or ""))
+    first = exc.context_mark
+    where = f" (first at line {first.line + 1})" if first else ""
+    name = f"'{key.group(1)}'" if key else "a key"
+    return Problem(f"duplicate key: {name} appears twice in the same mapping{where}",
+                   _mark_loc(exc.problem_mark, file), "each key may appear once per mapping: remove or rename one")
+
+
+def _syntax_problem(exc, file: str, text: str) -> Problem:
+    mark = exc.problem_mark or exc.context_mark
+    msg = (exc.problem or exc.context or "malformed YAML").strip()
+    if exc.context and exc.context_mark and exc.problem_mark and exc.context_mark.line != exc.problem_mark.line:
+        msg += f" ({exc.context.strip()} at line {exc.context_mark.line + 1}, column {exc.context_mark.column + 1})"
+    hint = "check indentation, colons after keys and matching quotes/brackets"
+    if "\t" in msg or (mark and _line(text, mark.line).startswith("\t")):
+        hint = "YAML indentation must use spaces, not tabs"
+    return Problem(f"malformed YAML: {msg}", _mark_loc(mark, file), hint)
+
+
+def _line(text: str, i: int) -> str:
+    lines = text.splitlines()
+    return lines[i] if 0 <= i < len(lines) else ""
+
+
+def kind(x) -> str:
+    if isinstance(x, (list, CommentedSeq)):
+        return "list"
+    return "single value" if x is not None else "empty document"
+
+
+def _tagged(node, file: str, ypath: str):
+    """Problems for YAML tags (``!foo``, ``!!python/...``): machine files hold plain data only."""
+    items = node.items() if isinstance(node, CommentedMap) else enumerate(node) if isinstance(node, CommentedSeq) else ()
+    for k, v in items:
+        sub = f"{ypath}.{k}" if ypath else str(k)
+        tag = getattr(v, "tag", None)
+        tag = getattr(tag, "value", tag)
+        if isinstance(v, TaggedScalar) or (isinstance(v, (CommentedMap, CommentedSeq)) and tag):
+            loc = value_loc(node, k, file, sub) if isinstance(node, CommentedMap) else item_loc(node, k, file, sub)
+            yield Problem(f"YAML tag '{tag}' is not allowed in a machine file", loc,
+                          "write a plain number, string, list or mapping")
+        elif isinstance(v, (CommentedMap, CommentedSeq)):
+            yield from _tagged(v, file, sub)
 
 
 def load_file(path: str | Path) -> tuple[CommentedMap, str]:

@@ -89,6 +89,19 @@
 
 #define HY_ABI_VERSION 1
 
+/* full unrolling of the tiny dense kernels (only when the system is small) */
+#if HY_NX <= 12 && defined(__GNUC__) && !defined(__clang__)
+#define HY_UNROLL _Pragma("GCC unroll 12")
+#else
+#define HY_UNROLL
+#endif
+#ifndef HY_GROW
+#define HY_GROW 6.0
+#endif
+#ifndef HY_SAFE
+#define HY_SAFE 0.9
+#endif
+
 /* ---- RODAS4 coefficients (Hairer & Wanner, RODAS METH=1) ---- */
 #define R_GAM 0.25
 #define R_C2 0.386
@@ -157,7 +170,7 @@ typedef struct {
     /* linear algebra */
     int sparse, use_dense;
     long nfallback;
-    double *dA;
+    double *dA, *ddinv;
     int *dpiv;
     int fnnz;
     int *frp, *fci, *fdiag, *perm, *jpos;
@@ -236,55 +249,62 @@ static int hy_first_nonfinite(const double *v, int n)
 
 /* ------------------------------------------------------------- dense LU */
 
-static int hy_lu_dense(double *a, int *piv, int n)
+/* Row-major, partial pivoting; the size is the compile-time HY_NX so that small
+   systems are fully unrolled.  The diagonal of U is stored inverted in dinv. */
+static int hy_lu_dense(double *a, int *piv, double *dinv)
 {
     int i, j, k;
-    for (k = 0; k < n; ++k) {
+    for (k = 0; k < HY_NX; ++k) {
         int pr = k;
-        double amax = fabs(a[(size_t)k * n + k]);
-        for (i = k + 1; i < n; ++i) {
-            double v = fabs(a[(size_t)i * n + k]);
+        double amax = fabs(a[(size_t)k * HY_NX + k]);
+        for (i = k + 1; i < HY_NX; ++i) {
+            double v = fabs(a[(size_t)i * HY_NX + k]);
             if (v > amax) { amax = v; pr = i; }
         }
         piv[k] = pr;
         if (!(amax > 0.0) || !isfinite(amax)) return 1;
         if (pr != k) {
-            double *r1 = a + (size_t)k * n, *r2 = a + (size_t)pr * n;
-            for (j = 0; j < n; ++j) { double tmp = r1[j]; r1[j] = r2[j]; r2[j] = tmp; }
+            double *r1 = a + (size_t)k * HY_NX, *r2 = a + (size_t)pr * HY_NX;
+            for (j = 0; j < HY_NX; ++j) { double tmp = r1[j]; r1[j] = r2[j]; r2[j] = tmp; }
         }
         {
-            const double *rk = a + (size_t)k * n;
+            const double *rk = a + (size_t)k * HY_NX;
             const double inv = 1.0 / rk[k];
-            for (i = k + 1; i < n; ++i) {
-                double *ri = a + (size_t)i * n;
-                double l = ri[k] * inv;
+            dinv[k] = inv;
+            for (i = k + 1; i < HY_NX; ++i) {
+                double *ri = a + (size_t)i * HY_NX;
+                const double l = ri[k] * inv;
                 ri[k] = l;
                 if (l != 0.0)
-                    for (j = k + 1; j < n; ++j) ri[j] -= l * rk[j];
+                    for (j = k + 1; j < HY_NX; ++j) ri[j] -= l * rk[j];
             }
         }
     }
     return 0;
 }
 
-static void hy_lu_dense_solve(const double *a, const int *piv, int n, double *b)
+static void hy_lu_dense_solve(const double *a, const int *piv, const double *dinv, double *b)
 {
     int i, j, k;
-    for (k = 0; k < n; ++k) {
-        int pr = piv[k];
-        if (pr != k) { double tmp = b[k]; b[k] = b[pr]; b[pr] = tmp; }
+    for (k = 0; k < HY_NX; ++k) {
+        const int pr = piv[k];
+        const double tmp = b[k];
+        b[k] = b[pr];
+        b[pr] = tmp;
     }
-    for (i = 1; i < n; ++i) {
-        const double *ri = a + (size_t)i * n;
-        double s = b[i];
-        for (j = 0; j < i; ++j) s -= ri[j] * b[j];
-        b[i] = s;
+    /* column-oriented substitutions: independent updates, no long FP chain */
+    HY_UNROLL
+    for (j = 0; j < HY_NX - 1; ++j) {
+        const double bj = b[j];
+        HY_UNROLL
+        for (i = j + 1; i < HY_NX; ++i) b[i] -= a[(size_t)i * HY_NX + j] * bj;
     }
-    for (i = n - 1; i >= 0; --i) {
-        const double *ri = a + (size_t)i * n;
-        double s = b[i];
-        for (j = i + 1; j < n; ++j) s -= ri[j] * b[j];
-        b[i] = s / ri[i];
+    HY_UNROLL
+    for (j = HY_NX - 1; j >= 0; --j) {
+        const double bj = b[j] * dinv[j];
+        b[j] = bj;
+        HY_UNROLL
+        for (i = 0; i < j; ++i) b[i] -= a[(size_t)i * HY_NX + j] * bj;
     }
 }
 
@@ -448,19 +468,20 @@ static int hy_factor(hy_ws *w, double fac)
     if (!w->dA) {
         w->dA = (double *)malloc(sizeof(double) * (size_t)n * n);
         w->dpiv = (int *)malloc(sizeof(int) * (size_t)n);
-        if (!w->dA || !w->dpiv) return -1;
+        w->ddinv = (double *)malloc(sizeof(double) * (size_t)n);
+        if (!w->dA || !w->dpiv || !w->ddinv) return -1;
     }
     memset(w->dA, 0, sizeof(double) * (size_t)n * n);
     for (e = 0; e < HY_NNZ; ++e)
         w->dA[(size_t)HY_JAC_ROW[e] * n + HY_JAC_COL[e]] -= w->jv[e];
     for (i = 0; i < n; ++i) w->dA[(size_t)i * n + i] += fac;
     w->use_dense = 1;
-    return hy_lu_dense(w->dA, w->dpiv, n);
+    return hy_lu_dense(w->dA, w->dpiv, w->ddinv);
 }
 
 static void hy_solve(const hy_ws *w, double *b)
 {
-    if (w->use_dense) hy_lu_dense_solve(w->dA, w->dpiv, HY_NX, b);
+    if (w->use_dense) hy_lu_dense_solve(w->dA, w->dpiv, w->ddinv, b);
     else hy_lu_sparse_solve(w, b);
 }
 
@@ -826,13 +847,13 @@ int hy_simulate(
                 if (ret) break;
             }
             /* step size controller (Gustafsson, as in RODAS) */
-            fac = pow(err, 0.25) / 0.9;
+            fac = pow(err, 0.25) / HY_SAFE;
             if (fac > 5.0) fac = 5.0;
-            if (fac < 1.0 / 6.0) fac = 1.0 / 6.0;
+            if (fac < 1.0 / HY_GROW) fac = 1.0 / HY_GROW;
             if (!first) {
-                double facg = (hacc / hstep) * pow(err * err / erracc, 0.25) / 0.9;
+                double facg = (hacc / hstep) * pow(err * err / erracc, 0.25) / HY_SAFE;
                 if (facg > 5.0) facg = 5.0;
-                if (facg < 1.0 / 6.0) facg = 1.0 / 6.0;
+                if (facg < 1.0 / HY_GROW) facg = 1.0 / HY_GROW;
                 if (facg > fac) fac = facg;
             }
             hnew = hstep / fac;
@@ -849,9 +870,9 @@ int hy_simulate(
             worst = -1;
             if (iout >= n_out) break;
         } else {
-            double fac = pow(err, 0.25) / 0.9;
+            double fac = pow(err, 0.25) / HY_SAFE;
             if (fac > 5.0) fac = 5.0;
-            if (fac < 1.0 / 6.0) fac = 1.0 / 6.0;
+            if (fac < 1.0 / HY_GROW) fac = 1.0 / HY_GROW;
             nrej++;
             h = first ? 0.1 * hstep : hstep / fac;
             reject = 1;
@@ -887,7 +908,7 @@ finish:
     stats[7] = hlast;
     free(blk);
     free(W.rptr); free(W.cptr); free(W.ridx); free(W.cidx); free(W.gptr); free(W.gcol);
-    free(W.dA); free(W.dpiv);
+    free(W.dA); free(W.dpiv); free(W.ddinv);
     free(W.perm); free(W.frp); free(W.fci); free(W.fdiag); free(W.jpos);
     free(W.fv); free(W.finv); free(W.fw); free(W.fw2);
     return ret;

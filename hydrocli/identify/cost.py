@@ -1,0 +1,110 @@
+"""Residuals and costs of a parameter set over one or several experiments.
+
+For experiment e and fitted output o with N_eo used samples the residual is
+r = (ŷ − y)/(s_eo·sqrt(N_eo)), so that the cost Σr² is
+
+* ``esr`` (default): s = std(y) → cost = Σ ESR_eo/100, every output weighted by its
+  own variance (ESR, seed 004 eq. 14);
+* ``seed004``: s = max|y| → seed 004's normalised squared error, eq. 13;
+* ``wls``: s = 1/w_o with user weights (weighted least squares).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import HydroError, IdentifyError, Problem
+from ..experiments.experiment import Experiment
+from ..model.model import Model
+from ..solve.simulate import SolverOptions, simulate
+
+COSTS = ("esr", "seed004", "wls")
+FAIL_RESIDUAL = 10.0   # per-sample residual of a failed simulation (≫ any fit)
+
+
+@dataclass
+class Target:
+    """One experiment's fitted outputs: indices, measured values, masks and scales."""
+
+    exp: Experiment
+    outputs: list[str]
+    cols: list[int]
+    values: list[np.ndarray]
+    masks: list[np.ndarray]
+    scales: list[float]
+
+    @property
+    def size(self) -> int:
+        return int(sum(m.sum() for m in self.masks))
+
+
+def make_targets(model: Model, experiments: list[Experiment], outputs: list[str] | None = None,
+                 cost: str = "esr", weights: dict[str, float] | None = None) -> list[Target]:
+    if cost not in COSTS:
+        raise IdentifyError(Problem(f"unknown cost '{cost}'", hint=f"use one of {', '.join(COSTS)}"))
+    targets = []
+    for exp in experiments:
+        names = [o for o in (outputs or list(exp.measured)) if o in exp.measured]
+        if outputs:
+            missing = [o for o in outputs if o not in exp.measured]
+            if missing:
+                raise IdentifyError(Problem(f"experiment '{exp.name}' has no measurement of {', '.join(missing)}",
+                                            hint="map the recording's columns to these outputs in the experiment file"))
+        if not names:
+            raise IdentifyError(Problem(f"experiment '{exp.name}' measures none of the machine's outputs "
+                                        f"({', '.join(model.output_names)})",
+                                        hint="name recording columns like the outputs or map them in the experiment file"))
+        cols, vals, masks, scales = [], [], [], []
+        for o in names:
+            y = exp.measured[o]
+            m = np.isfinite(y) & exp.mask.get(o, np.ones_like(y, dtype=bool))
+            if cost == "esr":
+                s = float(np.std(y[m]))
+            elif cost == "seed004":
+                s = float(np.max(np.abs(y[m])))
+            else:
+                w = (weights or {}).get(o, 1.0)
+                s = 1.0 / w if w else np.inf
+            if not np.isfinite(s) or s <= 0:
+                s = 1.0
+            cols.append(model.output_names.index(o))
+            vals.append(y)
+            masks.append(m)
+            scales.append(s)
+        targets.append(Target(exp, names, cols, vals, masks, scales))
+    return targets
+
+
+class Objective:
+    """Simulate all experiments for a full parameter vector; return stacked residuals."""
+
+    def __init__(self, model: Model, targets: list[Target], opts: SolverOptions | None = None):
+        self.model, self.targets = model, targets
+        self.opts = opts or SolverOptions(rtol=1e-5)
+        self.n_evals = 0
+        self.n_failed = 0
+        self.size = sum(t.size for t in targets)
+
+    def simulate_all(self, p: np.ndarray) -> list[np.ndarray]:
+        return [simulate(self.model, t.exp.inputs, t.exp.t_out, p=p, x0=t.exp.x0(self.model), opts=self.opts).Y
+                for t in self.targets]
+
+    def residuals(self, p: np.ndarray) -> np.ndarray:
+        self.n_evals += 1
+        out = []
+        for t in self.targets:
+            try:
+                Y = simulate(self.model, t.exp.inputs, t.exp.t_out, p=p, x0=t.exp.x0(self.model), opts=self.opts).Y
+            except HydroError:
+                self.n_failed += 1
+                out.extend(np.full(int(m.sum()), FAIL_RESIDUAL) for m in t.masks)
+                continue
+            for col, y, m, s in zip(t.cols, t.values, t.masks, t.scales):
+                r = (Y[m, col] - y[m]) / (s * np.sqrt(m.sum()))
+                out.append(np.where(np.isfinite(r), r, FAIL_RESIDUAL))
+        return np.concatenate(out) if out else np.zeros(0)
+
+    def cost(self, p: np.ndarray) -> float:
+        r = self.residuals(p)
+        return float(r @ r)

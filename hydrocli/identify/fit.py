@@ -1,0 +1,178 @@
+"""Fit free parameters of a built model to one or several experiments.
+
+Build once, solve many: every trial only changes the parameter array. Methods:
+``least-squares`` (SciPy trust-region reflective on the residual vector; default),
+``nelder-mead`` (seed 004 §IV), ``differential-evolution`` (global, slower). Standard errors
+and correlations come from the residual Jacobian at the optimum,
+cov = σ²(JᵀJ)⁻¹ with σ² = SSR/(m − k) (Gauss–Newton approximation), mapped from the unit
+box to parameter units. Ctrl-C stops the search and keeps the best point so far.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import optimize
+
+from ..errors import IdentifyError, Problem
+from ..experiments.experiment import Experiment
+from ..model.model import Model
+from ..solve.simulate import SolverOptions
+from .cost import Objective, make_targets
+from .transforms import FreeParameters
+
+METHODS = ("least-squares", "nelder-mead", "differential-evolution")
+
+
+@dataclass
+class FitResult:
+    names: list[str]
+    initial: np.ndarray
+    estimates: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    stderr: np.ndarray
+    correlation: np.ndarray
+    cost_initial: float
+    cost: float
+    cost_history: list[float]
+    p: np.ndarray                      # full parameter vector at the optimum
+    n_evals: int
+    n_failed: int
+    n_residuals: int
+    method: str
+    message: str
+    interrupted: bool = False
+    seconds: float = 0.0
+    warnings: list[str] = field(default_factory=list)
+
+    def as_dict(self) -> dict:
+        """The /identify group of the HDF5 result."""
+        return {"names": np.array(self.names, dtype=object), "initial": self.initial, "estimates": self.estimates,
+                "lower": self.lower, "upper": self.upper, "stderr": self.stderr, "correlation": self.correlation,
+                "cost_history": np.array(self.cost_history), "cost": self.cost, "cost_initial": self.cost_initial,
+                "method": self.method, "message": self.message, "n_evals": self.n_evals,
+                "interrupted": int(self.interrupted), "seconds": self.seconds,
+                "warnings": np.array(self.warnings or [""], dtype=object)}
+
+
+class _Tracker:
+    """Counts evaluations, keeps the best point and the cost history, reports progress."""
+
+    def __init__(self, progress=None):
+        self.best_cost = np.inf
+        self.best_z = None
+        self.history: list[float] = []
+        self.progress = progress
+
+    def see(self, z: np.ndarray, cost: float) -> None:
+        if cost < self.best_cost:
+            self.best_cost, self.best_z = cost, np.array(z, copy=True)
+        self.history.append(self.best_cost)
+        if self.progress:
+            self.progress(len(self.history), cost, self.best_cost)
+
+
+def fit(model: Model, experiments: list[Experiment], free: list[str] | None = None, *,
+        method: str = "least-squares", cost: str = "esr", outputs: list[str] | None = None,
+        weights: dict[str, float] | None = None, bounds: dict[str, tuple[float, float]] | None = None,
+        p_start: np.ndarray | None = None, max_evals: int = 400, opts: SolverOptions | None = None,
+        progress=None, seed: int = 0) -> FitResult:
+    if method not in METHODS:
+        raise IdentifyError(Problem(f"unknown method '{method}'", hint=f"use one of {', '.join(METHODS)}"))
+    fp = FreeParameters.from_model(model, free, bounds)
+    base = model.p0 if p_start is None else np.asarray(p_start, float)
+    objective = Objective(model, make_targets(model, experiments, outputs, cost, weights), opts)
+    tracker = _Tracker(progress)
+    z0 = fp.to_z(base[fp.index])
+
+    def residuals(z):
+        r = objective.residuals(fp.full_vector(base, fp.from_z(z)))
+        tracker.see(z, float(r @ r))
+        return r
+
+    def scalar(z):
+        return float(np.sum(residuals(z) ** 2))
+
+    t0 = time.perf_counter()
+    r0 = residuals(z0)
+    cost0 = float(r0 @ r0)
+    interrupted, message, jac = False, "", None
+    try:
+        if method == "least-squares":
+            sol = optimize.least_squares(residuals, z0, bounds=(0.0, 1.0), method="trf", x_scale=1.0,
+                                         diff_step=1e-3, max_nfev=max_evals, xtol=1e-6, ftol=1e-8)
+            message, jac = sol.message, sol.jac
+        elif method == "nelder-mead":
+            sol = optimize.minimize(scalar, z0, method="Nelder-Mead", bounds=[(0, 1)] * len(z0),
+                                    options={"maxfev": max_evals, "xatol": 1e-5, "fatol": 1e-10, "adaptive": True})
+            message = sol.message
+        else:
+            sol = optimize.differential_evolution(scalar, [(0, 1)] * len(z0), x0=z0, maxiter=max(max_evals // (15 * len(z0)), 1),
+                                                  popsize=15, seed=seed, polish=False, tol=1e-8)
+            message = sol.message
+    except KeyboardInterrupt:
+        interrupted, message = True, "interrupted: kept the best parameters so far"
+    z_best = tracker.best_z if tracker.best_z is not None else z0
+    if objective.n_failed and tracker.best_cost >= cost0 and not np.isfinite(tracker.best_cost):
+        raise IdentifyError(Problem("every trial simulation failed", hint="check bounds and the machine"))
+    est = fp.from_z(z_best)
+    p_best = fp.full_vector(base, est)
+    stderr, corr = _uncertainty(residuals if jac is None else None, jac, z_best, fp, tracker.best_cost,
+                                objective.size, interrupted)
+    res = FitResult(names=fp.names, initial=base[fp.index], estimates=est, lower=fp.lo, upper=fp.hi,
+                    stderr=stderr, correlation=corr, cost_initial=cost0, cost=tracker.best_cost,
+                    cost_history=tracker.history, p=p_best, n_evals=objective.n_evals, n_failed=objective.n_failed,
+                    n_residuals=objective.size, method=method, message=str(message), interrupted=interrupted,
+                    seconds=time.perf_counter() - t0)
+    res.warnings = fit_warnings(res, fp)
+    return res
+
+
+def _uncertainty(residual_fn, jac, z, fp: FreeParameters, ssr: float, m: int, interrupted: bool):
+    k = len(z)
+    nan = np.full(k, np.nan), np.full((k, k), np.nan)
+    if interrupted:
+        return nan
+    if jac is None:
+        if residual_fn is None:
+            return nan
+        r0 = residual_fn(z)
+        jac = np.empty((r0.size, k))
+        for i in range(k):
+            h = 1e-3 if z[i] < 0.999 else -1e-3
+            zz = z.copy()
+            zz[i] += h
+            jac[:, i] = (residual_fn(zz) - r0) / h
+    J = np.asarray(jac, float)
+    dof = max(m - k, 1)
+    sigma2 = ssr / dof
+    try:
+        cov_z = sigma2 * np.linalg.pinv(J.T @ J)
+    except np.linalg.LinAlgError:
+        return nan
+    d = fp.dp_dz(z)
+    cov = cov_z * np.outer(d, d)
+    se = np.sqrt(np.clip(np.diag(cov), 0, None))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(se, se)
+    return se, corr
+
+
+def fit_warnings(res: FitResult, fp: FreeParameters) -> list[str]:
+    out = []
+    for n in fp.at_bound(res.estimates):
+        out.append(f"{n} ended at a bound: widen its bounds or check the model")
+    for n, v, s in zip(res.names, res.estimates, res.stderr):
+        if np.isfinite(s) and v != 0 and s / abs(v) > 0.5:
+            out.append(f"{n} is poorly determined (standard error {100 * s / abs(v):.0f} % of its value)")
+    k = len(res.names)
+    for i in range(k):
+        for j in range(i + 1, k):
+            c = res.correlation[i, j]
+            if np.isfinite(c) and abs(c) > 0.95:
+                out.append(f"{res.names[i]} and {res.names[j]} are strongly correlated ({c:+.2f})")
+    if res.n_failed:
+        out.append(f"{res.n_failed} trial simulation(s) failed and were penalised")
+    return out

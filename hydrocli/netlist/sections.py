@@ -1,0 +1,86 @@
+"""The ``inputs:``, ``outputs:`` and ``initial:`` sections of a machine file."""
+from __future__ import annotations
+
+from ..components import registry
+from ..errors import HydroError
+from ..units import dimensionality
+from . import yamldoc as Y
+from .model import InputDecl, OutputDecl, ParamValue
+from .params import unit_of
+
+INPUT_KEYS = ("unit", "hold", "description")
+OUTPUT_KEYS = ("expr", "unit", "description")
+
+
+def _entries(section):
+    """(key, value, parent_map, file) over a merged mapping section."""
+    if not isinstance(section, dict):
+        return []
+    return [(k, v, parent, f) for k, (v, parent, f) in section.items()]
+
+
+def load_inputs(section, errs) -> dict[str, InputDecl]:
+    out = {}
+    for key, val, parent, f in _entries(section):
+        loc = Y.key_loc(parent, key, f, f"inputs.{key}")
+        val = val if val is not None else {}
+        if isinstance(val, str):
+            val = {"unit": val}
+        if not Y.is_map(val):
+            errs.add(f"input '{key}' must be a mapping like {{unit: bar}}", loc, f"e.g. {key}: {{unit: bar}}")
+            continue
+        bad = [k for k in val if k not in INPUT_KEYS]
+        for k in bad:
+            errs.add(f"unknown key '{k}' in input '{key}'{registry.suggest(str(k), INPUT_KEYS)}",
+                     Y.key_loc(val, k, f), f"allowed: {', '.join(INPUT_KEYS)}")
+        hold = str(val.get("hold", "linear"))
+        if hold not in ("linear", "zoh"):
+            errs.add(f"input '{key}': hold must be 'linear' or 'zoh', not '{hold}'", Y.value_loc(val, "hold", f),
+                     "'zoh' holds each sample until the next one; 'linear' interpolates")
+        unit = str(val.get("unit", "1"))
+        try:
+            dimensionality(unit)
+        except HydroError as exc:
+            errs.add(f"input '{key}': {exc.problems[0].message}", Y.value_loc(val, "unit", f), exc.problems[0].hint)
+        out[str(key)] = InputDecl(str(key), unit, hold, str(val.get("description", "")), loc)
+    return out
+
+
+def load_outputs(section, errs) -> dict[str, OutputDecl]:
+    out = {}
+    for key, val, parent, f in _entries(section):
+        loc = Y.key_loc(parent, key, f, f"outputs.{key}")
+        if isinstance(val, str):
+            val = {"expr": val}
+        if not Y.is_map(val) or "expr" not in val:
+            errs.add(f"output '{key}' needs an expression, e.g. '{key}: chamber_a.p' or '{{expr: ..., unit: bar}}'",
+                     loc, "outputs name node quantities (chamber_a.p, load.x) or component variables")
+            continue
+        for k in val:
+            if k not in OUTPUT_KEYS:
+                errs.add(f"unknown key '{k}' in output '{key}'{registry.suggest(str(k), OUTPUT_KEYS)}",
+                         Y.key_loc(val, k, f), f"allowed: {', '.join(OUTPUT_KEYS)}")
+        unit = val.get("unit")
+        if unit is not None:
+            try:
+                dimensionality(str(unit))
+            except HydroError as exc:
+                errs.add(f"output '{key}': {exc.problems[0].message}", Y.value_loc(val, "unit", f), exc.problems[0].hint)
+        out[str(key)] = OutputDecl(str(key), str(val["expr"]), None if unit is None else str(unit),
+                                   str(val.get("description", "")), Y.value_loc(val, "expr", f, f"outputs.{key}"))
+    return out
+
+
+def load_initial(section, defaults, errs) -> dict[str, ParamValue]:
+    """Initial values keyed by state name; the unit is checked when the model is built."""
+    out = {}
+    for key, val, parent, f in _entries(section):
+        loc = Y.value_loc(parent, key, f, f"initial.{key}")
+        if isinstance(val, (int, float)) and not isinstance(val, bool):
+            out[str(key)] = ParamValue(float(val), loc, unit=None)
+        elif isinstance(val, str):
+            out[str(key)] = ParamValue(val, loc, unit=unit_of(val))  # converted by the builder
+        else:
+            errs.add(f"initial value of '{key}' must be a number or a string like '50 bar'", loc,
+                     "e.g. chamber_a.p: \"50 bar\" or piston.x: \"70 mm\"")
+    return out
