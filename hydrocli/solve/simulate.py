@@ -17,7 +17,7 @@ from ..model.model import Model
 @dataclass
 class SolverOptions:
     rtol: float = 1e-6
-    atol_scale: float = 1e-3     # atol_i = atol_scale · rtol-free nominal magnitude of state i
+    atol_factor: float = 1e3     # atol_i = atol_factor · rtol · nominal magnitude of state i
     max_step: float = np.inf
     max_steps: int = 20_000_000
     backend: str = "auto"        # auto | compiled | python
@@ -46,7 +46,7 @@ class InputTable:
 
 
 def atol_vector(model: Model, opts: SolverOptions) -> np.ndarray:
-    return np.array([s.nominal for s in model.states], dtype=float) * opts.atol_scale
+    return np.array([s.nominal for s in model.states], dtype=float) * opts.atol_factor * opts.rtol
 
 
 def simulate(model: Model, inputs: InputTable, t_out: np.ndarray, p: np.ndarray | None = None,

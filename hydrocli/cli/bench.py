@@ -1,0 +1,24 @@
+"""``hydro bench``: speed figures with the baseline run in the same process."""
+from __future__ import annotations
+
+import typer
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("bench")
+    def bench_cmd(quick: bool = typer.Option(False, "--quick", help="fewer repeats, shorter scaling runs"),
+                  only: str = typer.Option("all", "--only", help="all | eha | scaling | build")) -> None:
+        """Compare the compiled model with solve_ivp (BDF/LSODA) on seed 004's EHA; scaling; build time."""
+        from .main import run_guarded
+        from .. import bench
+
+        def run():
+            if only == "eha":
+                bench.bench_eha(repeat=3 if quick else 7, echo=typer.echo)
+            elif only == "scaling":
+                bench.bench_scaling(t_end=2.0 if quick else 5.0, echo=typer.echo)
+            elif only == "build":
+                bench.bench_build(echo=typer.echo)
+            else:
+                bench.run_all(quick=quick, echo=typer.echo)
+        run_guarded(run)
