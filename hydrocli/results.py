@@ -139,8 +139,8 @@ def _write_tree(g, tree: dict) -> None:
             g.attrs[k] = "" if v is None else v
         else:
             arr = np.asarray(v)
-            if arr.dtype.kind in "US":
-                g.create_dataset(k, data=arr.astype(object), dtype=h5py.string_dtype())
+            if arr.dtype.kind in "USO":
+                g.create_dataset(k, data=[str(x) for x in arr.ravel()], dtype=h5py.string_dtype())
             else:
                 g.create_dataset(k, data=arr.astype(float))
 
