@@ -14,9 +14,9 @@ names the node, its ports, and what to add (as lcapy does for singular networks)
 from __future__ import annotations
 
 from ..components.base import Domain
-from ..errors import Location, Problem, TopologyError
+from ..errors import Location, Problem
 from ..model import expr as E
-from ..model.context import Assembly, NodeInfo, across_name, position_name
+from ..model.context import REFERENCE_NODES, Assembly, NodeInfo, across_name, position_name
 from ..components.registry import suggest
 
 
@@ -25,7 +25,7 @@ def check_domains(asm: Assembly, port_domains: dict[tuple[str, str], Domain],
     problems = []
     for node in asm.nodes.values():
         domains = {port_domains[p] for p in node.ports}
-        if len(domains) > 1:
+        if len(domains) > 1 and not node.is_reference:   # ground is the reference of every domain
             listing = ", ".join(f"{c}.{p} ({port_domains[(c, p)].value})" for c, p in node.ports)
             problems.append(Problem(
                 f"node '{node.name}' joins ports of different domains: {listing}",
@@ -86,7 +86,7 @@ def node_equations(asm: Assembly, input_names: set[str], comp_names: set[str],
             problems.append(Problem(f"signal node '{node.name}' has no driver (ports: {listing})", loc, hint))
             continue
         if not node.capacitance:
-            near = suggest(node.name, [n for n in all_nodes if n != node.name])
+            near = suggest(node.name, [n for n in all_nodes if n != node.name and n not in REFERENCE_NODES])
             what = {"hydraulic": "a 'volume' component (hose or chamber volume)",
                     "translational": "a 'mass'", "rotational": "an 'inertia'"}[dom.value]
             single = " Only one port is connected: a dangling connection?" if len(node.ports) == 1 else ""

@@ -14,11 +14,11 @@ import numpy as np
 
 from ..components import registry
 from ..components.base import Domain
-from ..errors import HydroError, Location, Problem, ProblemCollector, TopologyError, UnitError
+from ..errors import HydroError, NetlistError, ProblemCollector, TopologyError
 from ..graph.topology import check_domains, node_equations
 from ..netlist.model import Netlist
 from ..netlist.normal import normalised_text
-from ..units import same_dimension, to_si
+from ..units import dimensionality, to_si
 from . import expr as E
 from .codegen import Equations, order_variables
 from .context import Assembly, Context, NodeInfo
@@ -92,7 +92,7 @@ def build_model(net: Netlist) -> Model:
         if si.unit == "Pa":
             x0[i] = p_tank
     _apply_initial(net, state_infos, x0, errs)
-    errs.raise_if_any(UnitError)
+    errs.raise_if_any(NetlistError)
     param_infos = [_param_info(net, name, *asm.params[name]) for name in params]
     out_units = {o.name: o.unit for o in net.outputs.values()}
     normal = normalised_text(net)
@@ -112,7 +112,9 @@ def _apply_initial(net: Netlist, infos, x0, errs: ProblemCollector) -> None:
                      "'hydro check MACHINE' lists the states")
             continue
         try:
-            x0[idx[name]] = to_si(pv.value, infos[idx[name]].unit, location=pv.loc, what=f"initial {name}")
+            unit = infos[idx[name]].unit
+            default = net.unit_defaults.get(dimensionality(unit)) if unit not in ("", "1") else None
+            x0[idx[name]] = to_si(pv.value, unit, default_unit=default, location=pv.loc, what=f"initial {name}")
         except HydroError as exc:
             errs.extend(exc)
 

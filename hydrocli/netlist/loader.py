@@ -8,10 +8,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..components import registry
-from ..errors import HydroError, Location, NetlistError
+from ..errors import HydroError, Location, NetlistError, Problem
 from ..units import dimensionality
 from . import yamldoc as Y
-from .model import ComponentDecl, InputDecl, Netlist, OutputDecl, ParamValue
+from .model import ComponentDecl, Netlist, ParamValue
+from .overrides import apply_overrides  # noqa: F401  (re-exported for the CLI's --set)
 from .params import Errors, param_value
 from .sections import load_initial as _load_initial
 from .sections import load_inputs as _load_inputs
@@ -50,6 +51,9 @@ def load_doc(doc, file: str, text: str = "") -> Netlist:
     inputs = _load_inputs(sections.get("inputs"), errs)
     outputs = _load_outputs(sections.get("outputs"), errs)
     initial = _load_initial(sections.get("initial"), defaults, errs)
+    if not components and not errs:
+        errs.add("the machine has no components", Location(file, 1, 1, "components"),
+                 "add a 'components:' mapping ('hydro components' lists the types)")
     name = doc.get("name")
     if name is not None and not isinstance(name, str):
         errs.add("'name' must be a string", Y.value_loc(doc, "name", file, "name"), "e.g. name: eha_testbench")
@@ -135,7 +139,6 @@ def _unit_defaults(section, errs: Errors) -> dict[str, str]:
 
 
 def _at(problem, loc):
-    from ..errors import Problem
     return Problem(problem.message, loc, problem.hint)
 
 
@@ -171,8 +174,9 @@ def _load_component(name: str, src: CompSource, defaults, fluid, errs) -> Compon
         errs.add(f"component '{name}' must be a mapping with a 'type:'", loc, "e.g. 'tank: {type: tank, ports: {T: n}}'")
         return None
     if "type" not in cmap:
-        near = next((k for k in cmap if registry.suggest(str(k), ["type"])), None)
-        errs.add(f"component '{name}' has no 'type:'" + (f" (is '{near}' a misspelt 'type'?)" if near else ""),
+        near = next((k for k in cmap if registry.suggest(str(k), ["type", "template"])), None)
+        meant = "template" if near and registry.suggest(str(near), ["template"]) else "type"
+        errs.add(f"component '{name}' has no 'type:'" + (f" (is '{near}' a misspelt '{meant}'?)" if near else ""),
                  src.key_loc(near) if near else loc, "add e.g. 'type: orifice'; 'hydro components' lists the types")
         return None
     tname = cmap.get("type")
@@ -256,3 +260,4 @@ def _check_keys(m, allowed, file, errs, what="key", ypath="") -> None:
         if k not in allowed:
             errs.add(f"unknown {what} '{k}'{registry.suggest(str(k), allowed)}",
                      Y.key_loc(m, k, file, f"{ypath}{k}"), f"allowed: {', '.join(allowed)}")
+

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ..components.registry import suggest
-from ..errors import HydroError, Location, ProblemCollector, UnitError
+from ..errors import HydroError, Location, Problem, ProblemCollector, UnitError
 from ..units import dimensionality, same_dimension, to_si
 from . import yamldoc as Y
 from .model import ParamValue
@@ -90,7 +90,8 @@ def param_value(val, si_unit: str, where, key, ypath: str, defaults: dict, errs:
 
 def _check_flag(val, name, file, ypath, errs) -> bool:
     if name in val and val[name] is not None and not isinstance(val[name], bool):
-        errs.add(f"'{name}' must be true or false, got '{val[name]}'", Y.value_loc(val, name, file, f"{ypath}.{name}"))
+        errs.add(f"'{name}' must be true or false, got '{val[name]}'", Y.value_loc(val, name, file, f"{ypath}.{name}"),
+                 f"write '{name}: true' or '{name}: false'")
         return False
     return True
 
@@ -115,7 +116,6 @@ def _bounds(val, key, si_unit, unit, defaults, file, ypath, errs):
 
 
 def _relocate(problem, loc: Location):
-    from ..errors import Problem
     return Problem(problem.message, loc, problem.hint)
 
 
@@ -128,4 +128,10 @@ def unit_of(text: str) -> str | None:
 def convert(raw, si_unit: str, unit: str | None, defaults: dict, loc: Location, key) -> float:
     """SI value of ``raw``; a bare number is in ``unit``, else the file default, else SI."""
     default_unit = unit or defaults.get(dimensionality(si_unit))
-    return to_si(raw, si_unit, default_unit=default_unit, location=loc, what=str(key))
+    try:
+        return to_si(raw, si_unit, default_unit=default_unit, location=loc, what=str(key))
+    except UnitError as exc:
+        if all(p.hint for p in exc.problems):
+            raise
+        hint = f"write a number (in {default_unit or si_unit}) or a string with a unit, e.g. '{key}: \"1.5 {si_unit}\"'"
+        raise UnitError([Problem(p.message, p.location, p.hint or hint) for p in exc.problems]) from None

@@ -35,13 +35,14 @@ def load_inputs(section, errs) -> dict[str, InputDecl]:
                      Y.key_loc(val, k, f), f"allowed: {', '.join(INPUT_KEYS)}")
         hold = str(val.get("hold", "linear"))
         if hold not in ("linear", "zoh"):
-            errs.add(f"input '{key}': hold must be 'linear' or 'zoh', not '{hold}'", Y.value_loc(val, "hold", f),
+            errs.add(f"input '{key}': hold must be 'linear' or 'zoh', not '{hold}'", Y.value_loc(val, "hold", f, f"inputs.{key}.hold"),
                      "'zoh' holds each sample until the next one; 'linear' interpolates")
         unit = str(val.get("unit", "1"))
         try:
             dimensionality(unit)
         except HydroError as exc:
-            errs.add(f"input '{key}': {exc.problems[0].message}", Y.value_loc(val, "unit", f), exc.problems[0].hint)
+            errs.add(f"input '{key}': {exc.problems[0].message}", Y.value_loc(val, "unit", f, f"inputs.{key}.unit"),
+                     exc.problems[0].hint)
         out[str(key)] = InputDecl(str(key), unit, hold, str(val.get("description", "")), loc)
     return out
 
@@ -49,25 +50,32 @@ def load_inputs(section, errs) -> dict[str, InputDecl]:
 def load_outputs(section, errs) -> dict[str, OutputDecl]:
     out = {}
     for key, val, parent, f in _entries(section):
-        loc = Y.key_loc(parent, key, f, f"outputs.{key}")
+        ypath = f"outputs.{key}"
+        loc = Y.key_loc(parent, key, f, ypath)
         if isinstance(val, str):
-            val = {"expr": val}
-        if not Y.is_map(val) or "expr" not in val:
+            expr_loc, val = Y.value_loc(parent, key, f, ypath), {"expr": val}
+        elif Y.is_map(val):
+            expr_loc = Y.value_loc(val, "expr", f, f"{ypath}.expr")
+        else:
+            val, expr_loc = None, loc
+        bad = [k for k in (val or {}) if k not in OUTPUT_KEYS]
+        for k in bad:
+            errs.add(f"unknown key '{k}' in output '{key}'{registry.suggest(str(k), OUTPUT_KEYS)}",
+                     Y.key_loc(val, k, f, f"{ypath}.{k}"), f"allowed: {', '.join(OUTPUT_KEYS)}")
+        if val is None or ("expr" not in val and not bad):
             errs.add(f"output '{key}' needs an expression, e.g. '{key}: chamber_a.p' or '{{expr: ..., unit: bar}}'",
                      loc, "outputs name node quantities (chamber_a.p, load.x) or component variables")
+        if val is None or bad or "expr" not in val:
             continue
-        for k in val:
-            if k not in OUTPUT_KEYS:
-                errs.add(f"unknown key '{k}' in output '{key}'{registry.suggest(str(k), OUTPUT_KEYS)}",
-                         Y.key_loc(val, k, f), f"allowed: {', '.join(OUTPUT_KEYS)}")
         unit = val.get("unit")
         if unit is not None:
             try:
                 dimensionality(str(unit))
             except HydroError as exc:
-                errs.add(f"output '{key}': {exc.problems[0].message}", Y.value_loc(val, "unit", f), exc.problems[0].hint)
+                errs.add(f"output '{key}': {exc.problems[0].message}", Y.value_loc(val, "unit", f, f"{ypath}.unit"),
+                         exc.problems[0].hint)
         out[str(key)] = OutputDecl(str(key), str(val["expr"]), None if unit is None else str(unit),
-                                   str(val.get("description", "")), Y.value_loc(val, "expr", f, f"outputs.{key}"))
+                                   str(val.get("description", "")), expr_loc)
     return out
 
 

@@ -1,0 +1,237 @@
+"""Edit a machine file's round-trip document and return the new text (comments kept).
+
+Used by identification (write estimates back) and diagnosis (augment the machine). Every
+function works on a copy of ``netlist.doc`` and returns YAML text; reload it with
+:func:`hydrocli.netlist.loader.load_netlist_text` to continue editing. Values are written
+in the unit the file used for them ("1.73 GPa" stays in GPa), with 6 significant digits.
+Parameter names are the model's: ``valve.Kv``, ``outer.valve.Kv`` (written as the override
+``valve.Kv:`` on the template instance ``outer``), ``fluid.beta``.
+"""
+from __future__ import annotations
+
+import copy
+import difflib
+
+from ruamel.yaml.comments import CommentedMap, CommentedSeq
+from ruamel.yaml.scalarstring import DoubleQuotedScalarString, SingleQuotedScalarString
+
+from ..components import registry
+from ..errors import Location, NetlistError, Problem
+from ..units import dimensionality, from_si
+from . import yamldoc as Y
+from .model import Netlist
+from .params import unit_of
+
+FLUID_UNITS = {"beta": "Pa", "rho": "kg/m^3", "nu": "m^2/s", "p_tank": "Pa"}
+DIGITS = 6
+
+
+# -- public API ----------------------------------------------------------------------------
+def set_parameters(net: Netlist, values: dict[str, float | list[float]]) -> str:
+    """Write SI ``values`` ({"valve.Kv": 5.1e-7, …}) back into the file's text."""
+    doc = _copy(net)
+    for name, value in values.items():
+        _Slot(net, doc, name).set_value(value)
+    return Y.dump_text(doc)
+
+
+def set_free(net: Netlist, name: str, free: bool, bounds: tuple[float, float] | None = None) -> str:
+    """Mark a parameter free (or fixed) for identification; ``bounds`` are SI."""
+    doc = _copy(net)
+    _Slot(net, doc, name).set_free(free, bounds)
+    return Y.dump_text(doc)
+
+
+def add_component(net: Netlist, name: str, type: str, ports: dict[str, str],
+                  params: dict | None = None) -> str:
+    """Add a component; ``params`` values are SI numbers, unit strings or {value, free, bounds} maps."""
+    cls = registry.get(type)
+    if cls is None:
+        raise NetlistError(_problem(f"unknown component type '{type}'{registry.suggest(type, registry.all_types())}",
+                                    net, "'hydro components' lists the types"))
+    for port in ports:
+        if cls.port(port) is None:
+            raise NetlistError(_problem(f"{type} has no port '{port}'", net,
+                                        f"ports: {', '.join(p.name for p in cls.ports)}"))
+    for pname in params or {}:
+        if cls.param(pname) is None:
+            raise NetlistError(_problem(f"{type} has no parameter '{pname}'", net,
+                                        f"parameters: {', '.join(p.name for p in cls.parameters)}"))
+    doc = _copy(net)
+    comps = _components(doc, net)
+    if name in comps or name in net.components:
+        raise NetlistError(_problem(f"component '{name}' already exists", net, "choose another name"))
+    cmap = CommentedMap()
+    cmap["type"] = type
+    cmap["ports"] = _flow_map(ports)
+    for pname, v in (params or {}).items():
+        cmap[pname] = (_flow_map(v) if isinstance(v, dict) else _number(v) if _is_num(v)
+                       else DoubleQuotedScalarString(v) if isinstance(v, str) else _flow_seq(v))
+    comps[name] = cmap
+    return Y.dump_text(doc)
+
+
+def set_port(net: Netlist, comp: str, port: str, node: str) -> str:
+    """Connect ``comp.port`` to ``node`` (the component must be written in the main file)."""
+    doc = _copy(net)
+    cmap = _top_component(net, doc, comp)
+    cls = registry.get(str(cmap.get("type")))
+    if cls is not None and cls.port(port) is None:
+        raise NetlistError(_problem(f"{cls.type} has no port '{port}'", net,
+                                    f"ports: {', '.join(p.name for p in cls.ports)}"))
+    if not Y.is_map(cmap.get("ports")):
+        cmap["ports"] = _flow_map({})
+    cmap["ports"][port] = node
+    return Y.dump_text(doc)
+
+
+def remove_component(net: Netlist, name: str) -> str:
+    """Remove a component written in the main file (its nodes stay as written elsewhere)."""
+    doc = _copy(net)
+    _top_component(net, doc, name)
+    del doc["components"][name]
+    return Y.dump_text(doc)
+
+
+def diff_text(old: str, new: str, name: str = "machine.yaml") -> str:
+    """Unified diff of two versions of a machine file, for printing."""
+    return "".join(difflib.unified_diff(old.splitlines(keepends=True), new.splitlines(keepends=True),
+                                        f"a/{name}", f"b/{name}"))
+
+
+# -- helpers -------------------------------------------------------------------------------
+def _copy(net: Netlist) -> CommentedMap:
+    if net.doc is None:
+        raise NetlistError(_problem("this netlist has no source document to edit", net,
+                                    "load it with load_netlist or load_netlist_text"))
+    return copy.deepcopy(net.doc)
+
+
+def _problem(msg: str, net: Netlist, hint: str | None = None) -> Problem:
+    return Problem(msg, Location(net.file), hint)
+
+
+def _components(doc, net: Netlist) -> CommentedMap:
+    if doc.get("components") is None:
+        doc["components"] = CommentedMap()
+    return doc["components"]
+
+
+def _top_component(net: Netlist, doc, name: str) -> CommentedMap:
+    comps = _components(doc, net)
+    if name not in comps:
+        where = net.components[name].loc.file if name in net.components else None
+        hint = (f"it is defined in {where}; edit that file" if where and where != net.file else
+                f"components of the main file: {', '.join(map(str, comps))}")
+        raise NetlistError(_problem(f"component '{name}' is not written in {net.file}"
+                                    f"{registry.suggest(name, list(map(str, comps)))}", net, hint))
+    return comps[name]
+
+
+def _is_num(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _number(x: float) -> float | int:
+    r = float(f"{x:.{DIGITS}g}")
+    return int(r) if r.is_integer() and abs(r) < 1e15 and "e" not in f"{x:.{DIGITS}g}" else r
+
+
+def _flow_map(d: dict) -> CommentedMap:
+    m = CommentedMap()
+    for k, v in d.items():
+        m[k] = _number(v) if _is_num(v) else _flow_seq(v) if isinstance(v, (list, tuple)) else v
+    m.fa.set_flow_style()
+    return m
+
+
+def _flow_seq(items) -> CommentedSeq:
+    s = CommentedSeq([_number(v) if _is_num(v) else v for v in items])
+    s.fa.set_flow_style()
+    return s
+
+
+class _Slot:
+    """Where a model parameter lives in the document, and how its value is written there."""
+
+    def __init__(self, net: Netlist, doc, name: str):
+        self.net, self.name = net, name
+        comp, _, self.pname = name.rpartition(".")
+        if comp == "fluid":
+            if self.pname not in FLUID_UNITS:
+                raise NetlistError(_problem(f"no fluid property '{self.pname}'", net,
+                                            f"fluid properties: {', '.join(FLUID_UNITS)}"))
+            if doc.get("fluid") is None:
+                doc["fluid"] = CommentedMap()
+            self.map, self.key, self.si_unit = doc["fluid"], self.pname, FLUID_UNITS[self.pname]
+            self.pv = net.fluid.get(self.pname)
+            return
+        decl = net.components.get(comp)
+        spec = registry.get(decl.type).param(self.pname) if decl else None
+        if spec is None:
+            known = [f"{c}.{p}" for c, d in net.components.items() for p in d.params]
+            raise NetlistError(_problem(f"no parameter '{name}'{registry.suggest(name, known)}", net,
+                                        "parameter names are COMPONENT.PARAMETER, e.g. valve.Kv"))
+        self.si_unit, self.pv = spec.unit, decl.params.get(self.pname)
+        comps = _components(doc, net)
+        if comp in comps:
+            self.map, self.key = comps[comp], self.pname
+        else:  # a template instance: write the override on the instance
+            inst, _, inner = comp.partition(".")
+            self.map = _top_component(net, doc, inst)
+            self.key = f"{inner}.{self.pname}"
+
+    # the unit a number is written in, and whether it is a "value unit" string
+    def _style(self):
+        raw = self.map.get(self.key)
+        holder = raw if Y.is_map(raw) else None
+        value = holder.get("value") if holder is not None else raw
+        if holder is not None and holder.get("unit") is not None:
+            return str(holder["unit"]), None
+        if isinstance(value, str) and unit_of(value):
+            return unit_of(value), type(value)
+        if value is None and self.pv is not None and self.pv.unit:  # absent: fluid/default unit
+            return self.pv.unit, DoubleQuotedScalarString
+        return self.net.unit_defaults.get(dimensionality(self.si_unit)), None
+
+    def _render(self, x):
+        unit, string_type = self._style()
+        if isinstance(x, (list, tuple)):
+            return _flow_seq([from_si(v, unit) if unit else v for v in x])
+        v = _number(from_si(x, unit) if unit else x)
+        if string_type is not None:
+            cls = string_type if string_type in (DoubleQuotedScalarString, SingleQuotedScalarString) else str
+            return cls(f"{v:.{DIGITS}g} {unit}")
+        return v
+
+    def set_value(self, x) -> None:
+        raw = self.map.get(self.key)
+        new = self._render(x)
+        if Y.is_map(raw):
+            raw["value"] = new
+        elif raw is None and self.pv is not None and self.pv.free and not self.pv.given:
+            self._write_map(new, True, self.pv.bounds)
+        else:
+            self.map[self.key] = new
+
+    def set_free(self, free: bool, bounds) -> None:
+        raw = self.map.get(self.key)
+        if Y.is_map(raw):
+            raw["free"] = free
+            if bounds is not None:
+                raw["bounds"] = _flow_seq([self._render(b) for b in bounds])
+            return
+        value = raw if raw is not None else self._render(self.pv.value if self.pv else 0.0)
+        if not free and bounds is None:
+            self.map[self.key] = value
+            return
+        self._write_map(value, free, bounds)
+
+    def _write_map(self, value, free, bounds) -> None:
+        m = CommentedMap()
+        m["value"] = value
+        m["free"] = free
+        if bounds is not None:
+            m["bounds"] = _flow_seq([self._render(b) for b in bounds])
+        m.fa.set_flow_style()
+        self.map[self.key] = m
