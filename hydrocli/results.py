@@ -9,9 +9,7 @@ value, unit), every dataset with a ``unit`` attribute (SI) and, where the machin
 from __future__ import annotations
 
 import datetime as _dt
-import os
 import sys
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -20,6 +18,7 @@ import numpy as np
 
 from . import __version__
 from .errors import DataError, Location, Problem
+from .fileio import atomic_path
 
 
 @dataclass
@@ -84,18 +83,9 @@ def _si_unit(unit: str) -> str:
 
 def write_result(path: str | Path, res: RunResult) -> None:
     """Write through a temporary file in the same folder, then rename (never a half file)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=str(path.parent))
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         with h5py.File(tmp, "w") as h:
             _write(h, res)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def _dataset(group, name: str, data, unit: str, display: str | None = None):

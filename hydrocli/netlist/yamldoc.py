@@ -6,9 +6,7 @@ keeping where every key and value sits, and writes a document back with its comm
 from __future__ import annotations
 
 import io
-import os
 import re
-import tempfile
 from pathlib import Path
 
 from ruamel.yaml import YAML
@@ -120,17 +118,8 @@ def dump_text(doc) -> str:
 
 def write_atomic(path: str | Path, text: str) -> None:
     """Write text to ``path`` through a temporary file and a rename."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=str(path.parent))
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    from ..fileio import write_text_atomic
+    write_text_atomic(path, text)
 
 
 def key_loc(m, key, file: str, ypath: str = "") -> Location:
