@@ -53,3 +53,37 @@ class Friction(Component):
         f = c.let("F", f)
         c.through("a", f)
         c.through("b", -f)
+
+
+@register
+class CylinderFriction(Component):
+    """Cylinder friction of seed 000 (eqs. 23, 26): F_fr = F_S + C_p·|F_p| with the pressure
+    force F_p = p_A·A_A − p_B·A_B; it opposes motion, saturated linearly below the transition
+    velocity v0: F = F_fr·clamp(v/v0, −1, 1). Outer jib (Table 7): F_S = 6.4 kN, C_p = 0.029;
+    a first guess is F_S = A_p·1 bar, C_p = 0.02 (§4.3)."""
+
+    type = "cylinder_friction"
+    family = "mechanical"
+    description = "Static + pressure-dependent cylinder friction with a transition velocity (seed 000)"
+    source = "seed 000 eqs. 23, 26, Table 7"
+    ports = (Port("a", T, "rod/piston"), Port("b", T, "cylinder body (usually ground)"),
+             Port("pa", H, "chamber A pressure (sensed only)"), Port("pb", H, "chamber B pressure (sensed only)"))
+    parameters = (
+        Param("F_S", "N", 6.4e3, "static friction force", source="seed 000 eq. 26, Table 7", min=0.0,
+              bounds=(0.0, 1e6)),
+        Param("C_p", "1", 0.029, "pressure-dependent fraction of |F_p|", source="seed 000 eq. 26, Table 7", min=0.0,
+              max=1.0, bounds=(0.0, 0.2)),
+        Param("v0", "m/s", 1e-3, "transition velocity", source="seed 000 eq. 23", positive=True, bounds=(1e-5, 0.1)),
+        Param("A_A", "m^2", 0.04909, "piston area (0.25 m bore, Table 6)", positive=True),
+        Param("A_B", "m^2", 0.03682, "annulus area φ·A_p (0.25/0.125 m, Table 6)", positive=True),
+    )
+    variables = (VariableSpec("F", "N", "friction force opposing a relative to b"),
+                 VariableSpec("F_p", "N", "pressure force p_A·A_A − p_B·A_B"))
+
+    def equations(self, c):
+        p = c.p
+        v = c.across("a") - c.across("b")
+        f_p = c.let("F_p", c.across("pa") * p.A_A - c.across("pb") * p.A_B)
+        f = c.let("F", (p.F_S + p.C_p * E.fabs(f_p)) * E.clamp(v / p.v0, -1.0, 1.0))
+        c.through("a", f)
+        c.through("b", -f)
