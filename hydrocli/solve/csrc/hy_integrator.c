@@ -57,8 +57,14 @@
  * Memory: all work arrays are malloc'ed once per call and freed at the end; no
  *   static mutable state, so the function is reentrant (thread-safe).
  *
+ * Known limitation: Rodas4 has stage order 1 and shows some order reduction on
+ *   stiff components driven by fast time-varying inputs (Prothero-Robinson type);
+ *   Rodas4P/Rodas5P (Steinebach) would be the drop-in cure (same structure, other
+ *   coefficients).  Jacobian reuse across steps was measured to be much worse
+ *   (Rodas4 is not a W-method), so J is fresh at every step.
+ *
  * Compile-time knobs (define before including): HY_FORCE_DENSE, HY_FORCE_SPARSE,
- *   HY_DENSE_MAX, HY_PIVTOL, HY_HAS_JAC.
+ *   HY_DENSE_MAX (24), HY_PIVTOL (1e-8), HY_HAS_JAC, HY_SAFE (0.9), HY_GROW (6).
  *
  * Return codes of hy_simulate: 0 ok; 1 step size underflow; 2 max_steps exceeded;
  *   3 non-finite value (stats[6] = first non-finite state index); 100+k model
@@ -237,6 +243,18 @@ static int hy_f(hy_ws *w, double t, const double *x, int kcap, double *dx)
     hy_eval_u(w, t, kcap, w->u);
     w->nfev++;
     return hy_rhs(t, x, w->p, w->u, dx);
+}
+
+/* -1 if all finite, else the first non-finite index (cheap test via the sum). */
+static int hy_bad_stage(const double *v)
+{
+    double s = 0.0;
+    int i;
+    for (i = 0; i < HY_NX; ++i) s += v[i] * 0.0;  /* 0*x is NaN iff x is not finite */
+    if (s == 0.0) return -1;
+    for (i = 0; i < HY_NX; ++i)
+        if (!isfinite(v[i])) return i;
+    return -1;
 }
 
 static int hy_first_nonfinite(const double *v, int n)
@@ -764,12 +782,14 @@ int hy_simulate(
         for (i = 0; i < HY_NX; ++i) y[i] = x[i] + R_A21 * k1[i];
         st = hy_f(&W, t + R_C2 * hstep, y, kcap, fs);
         if (st) { fail = 100 + st; goto stage_fail; }
+        if ((worst = hy_bad_stage(fs)) >= 0) { fail = 3; goto stage_fail; }
         for (i = 0; i < HY_NX; ++i) k2[i] = fs[i] + hstep * R_D2 * W.fdt[i] + ih * (R_C21 * k1[i]);
         hy_solve(&W, k2);
         /* stage 3 */
         for (i = 0; i < HY_NX; ++i) y[i] = x[i] + R_A31 * k1[i] + R_A32 * k2[i];
         st = hy_f(&W, t + R_C3 * hstep, y, kcap, fs);
         if (st) { fail = 100 + st; goto stage_fail; }
+        if ((worst = hy_bad_stage(fs)) >= 0) { fail = 3; goto stage_fail; }
         for (i = 0; i < HY_NX; ++i)
             k3[i] = fs[i] + hstep * R_D3 * W.fdt[i] + ih * (R_C31 * k1[i] + R_C32 * k2[i]);
         hy_solve(&W, k3);
@@ -777,6 +797,7 @@ int hy_simulate(
         for (i = 0; i < HY_NX; ++i) y[i] = x[i] + R_A41 * k1[i] + R_A42 * k2[i] + R_A43 * k3[i];
         st = hy_f(&W, t + R_C4 * hstep, y, kcap, fs);
         if (st) { fail = 100 + st; goto stage_fail; }
+        if ((worst = hy_bad_stage(fs)) >= 0) { fail = 3; goto stage_fail; }
         for (i = 0; i < HY_NX; ++i)
             k4[i] = fs[i] + hstep * R_D4 * W.fdt[i]
                   + ih * (R_C41 * k1[i] + R_C42 * k2[i] + R_C43 * k3[i]);
@@ -786,6 +807,7 @@ int hy_simulate(
             y[i] = x[i] + R_A51 * k1[i] + R_A52 * k2[i] + R_A53 * k3[i] + R_A54 * k4[i];
         st = hy_f(&W, t + hstep, y, kcap, fs);
         if (st) { fail = 100 + st; goto stage_fail; }
+        if ((worst = hy_bad_stage(fs)) >= 0) { fail = 3; goto stage_fail; }
         for (i = 0; i < HY_NX; ++i)
             k5[i] = fs[i] + ih * (R_C51 * k1[i] + R_C52 * k2[i] + R_C53 * k3[i] + R_C54 * k4[i]);
         hy_solve(&W, k5);
@@ -793,6 +815,7 @@ int hy_simulate(
         for (i = 0; i < HY_NX; ++i) y[i] += k5[i];
         st = hy_f(&W, t + hstep, y, kcap, fs);
         if (st) { fail = 100 + st; goto stage_fail; }
+        if ((worst = hy_bad_stage(fs)) >= 0) { fail = 3; goto stage_fail; }
         for (i = 0; i < HY_NX; ++i)
             k6[i] = fs[i] + ih * (R_C61 * k1[i] + R_C62 * k2[i] + R_C63 * k3[i]
                                   + R_C64 * k4[i] + R_C65 * k5[i]);
