@@ -8,6 +8,7 @@ intermediate variables by their dotted names; the code generator maps names to i
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import Iterable
@@ -62,14 +63,19 @@ class Expr:
 
     def symbols(self) -> set[tuple[str, str]]:
         """All (kind, name) leaves, kind in state/param/input/var/time."""
-        out: set[tuple[str, str]] = set()
-        stack = [self]
-        while stack:
-            e = stack.pop()
-            if e.op == "sym":
-                out.add((e.args[0], e.args[1]))
-            elif e.op != "const":
-                stack.extend(a for a in e.args if isinstance(a, Expr))
+        return set(self.symbol_set)
+
+    @functools.cached_property
+    def symbol_set(self) -> frozenset:
+        """The leaves as a frozenset, computed once per node from its children's."""
+        if self.op == "sym":
+            return frozenset([(self.args[0], self.args[1])])
+        if self.op == "const":
+            return frozenset()
+        out: frozenset = frozenset()
+        for a in self.args:
+            if isinstance(a, Expr):
+                out = out | a.symbol_set
         return out
 
     def __repr__(self) -> str:
@@ -301,3 +307,73 @@ def sum_exprs(items: Iterable) -> Expr:
     for it in items:
         total = add(total, it)
     return total
+
+
+# -- symbolic derivatives (for the analytic Jacobian) ----------------------------------------
+def partial(e: Expr, key: tuple[str, str]) -> Expr:
+    """∂e/∂(symbol ``key``), treating every other symbol as independent.
+
+    Branches differentiate branch-wise (``where``), comparisons have zero derivative, and
+    min/max/abs follow the active branch — the usual almost-everywhere derivative.
+    """
+    op = e.op
+    if op == "const":
+        return ZERO
+    if op == "sym":
+        return ONE if (e.args[0], e.args[1]) == key else ZERO
+    if op in _COMPARE:
+        return ZERO
+    if key not in _symbols_cached(e):
+        return ZERO
+    a = e.args
+    if op == "+":
+        return add(partial(a[0], key), partial(a[1], key))
+    if op == "-":
+        return sub(partial(a[0], key), partial(a[1], key))
+    if op == "*":
+        return add(mul(partial(a[0], key), a[1]), mul(a[0], partial(a[1], key)))
+    if op == "/":
+        da, db = partial(a[0], key), partial(a[1], key)
+        if _is(db, 0.0):
+            return div(da, a[1])
+        return div(sub(mul(da, a[1]), mul(a[0], db)), mul(a[1], a[1]))
+    if op == "where":
+        return where(a[0], partial(a[1], key), partial(a[2], key))
+    if op in ("min", "max"):
+        cond = (a[0] <= a[1]) if op == "min" else (a[0] >= a[1])
+        return where(cond, partial(a[0], key), partial(a[1], key))
+    if op == "pow":
+        base, ex = a
+        db, de = partial(base, key), partial(ex, key)
+        out = ZERO
+        if not _is(db, 0.0):
+            out = mul(mul(ex, power(base, sub(ex, 1.0))), db) if ex.is_const else \
+                mul(mul(ex, div(e, base)), db)
+        if not _is(de, 0.0):
+            out = add(out, mul(mul(e, log(base)), de))
+        return out
+    if op == "atan2":
+        y, x = a
+        dy, dx = partial(y, key), partial(x, key)
+        return div(sub(mul(x, dy), mul(y, dx)), add(mul(x, x), mul(y, y)))
+    d = partial(a[0], key)
+    if _is(d, 0.0):
+        return ZERO
+    x = a[0]
+    outer = {
+        "sqrt": lambda: div(0.5, e), "exp": lambda: e, "log": lambda: div(1.0, x),
+        "tanh": lambda: sub(1.0, mul(e, e)), "sin": lambda: cos(x), "cos": lambda: mul(-1.0, sin(x)),
+        "tan": lambda: add(1.0, mul(e, e)), "atan": lambda: div(1.0, add(1.0, mul(x, x))),
+        "asin": lambda: div(1.0, sqrt(sub(1.0, mul(x, x)))),
+        "acos": lambda: div(-1.0, sqrt(sub(1.0, mul(x, x)))),
+        "sinh": lambda: cosh(x), "cosh": lambda: sinh(x), "abs": lambda: sign(x), "sign": lambda: ZERO,
+    }[op]()
+    return mul(outer, d)
+
+
+ZERO = const(0.0)
+ONE = const(1.0)
+
+
+def _symbols_cached(e: Expr) -> frozenset:
+    return e.symbol_set
