@@ -155,8 +155,8 @@ def bench_eha(repeat: int = 5, t_end: float = 20.0, baseline_rtol: float = 1e-6,
 
 
 def n_cylinder_machine(n: int) -> str:
-    """n independent EHA circuits sharing supply and tank (text of a machine file)."""
-    base = EHA.read_text()
+    """n EHA circuits on one supply line (a volume fed through an orifice): every circuit
+    couples to the shared supply pressure, so the Jacobian has an arrow pattern."""
     lines = ["name: bench_%d" % n, "fluid: {beta: 1.73 GPa, p_tank: 1 bar}",
              "inputs: {u: {unit: '%'}, Ps: {unit: Pa}, Fext: {unit: N}}",
              "templates:", "  axis:", "    ports: [P, T, cmd, F]", "    components:"]
@@ -170,11 +170,12 @@ def n_cylinder_machine(n: int) -> str:
         "ext": "{type: force_source, ports: {a: rod, F: F}}",
     }
     lines += [f"      {k}: {v}" for k, v in comps.items()]
-    lines += ["components:", "  supply: {type: pressure_source, ports: {P: sl, ref: Ps}}",
+    lines += ["components:", "  supply: {type: pressure_source, ports: {P: pump, ref: Ps}}",
+              "  supply_line: {type: orifice, ports: {A: pump, B: sl}, Kv: 1.0e-5}",
+              "  supply_volume: {type: volume, ports: {P: sl}, V: 1 L}",
               "  tank: {type: tank, ports: {T: rl}}"]
     lines += [f"  ax{i}: {{template: axis, ports: {{P: sl, T: rl, cmd: u, F: Fext}}}}" for i in range(n)]
-    lines += ["initial:"] + [f"  ax{i}.rod.x: 0.07\n  ax{i}.c1.p: 50 bar\n  ax{i}.c2.p: 50 bar" for i in range(n)]
-    del base
+    lines += ["initial:", "  sl.p: 100 bar"] + [f"  ax{i}.rod.x: 0.07\n  ax{i}.c1.p: 50 bar\n  ax{i}.c2.p: 50 bar" for i in range(n)]
     return "\n".join(lines) + "\n"
 
 

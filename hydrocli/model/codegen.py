@@ -61,7 +61,7 @@ def order_variables(eqs: Equations, roots: list[E.Expr]) -> list[str]:
     return order
 
 
-MAX_JACOBIAN_LINES = 2500  # beyond this, compile time outweighs the gain: finite differences
+MAX_JACOBIAN_CHARS = 1_000_000  # beyond this, compile time outweighs the gain: finite differences
 
 
 class StateDeps:
@@ -157,7 +157,7 @@ def generate_c(eqs: Equations, name: str = "model", analytic_jacobian: bool = Tr
     lines += ["    return 0;", "}", ""]
     if analytic_jacobian:
         from .jacobian import jacobian_c
-        lines += jacobian_c(eqs, names, rows, cols, max_lines=MAX_JACOBIAN_LINES)
+        lines += jacobian_c(eqs, names, rows, cols, max_chars=MAX_JACOBIAN_CHARS)
     return "\n".join(lines)
 
 

@@ -38,10 +38,11 @@ def _prepare(eqs: Equations):
     return deps, order_variables(eqs, roots)
 
 
-def jacobian_size(eqs: Equations, nnz: int) -> int:
-    """Lines the analytic Jacobian would take (cheap: no differentiation)."""
+def jacobian_size(eqs: Equations, names) -> int:
+    """Estimated characters of the analytic Jacobian's code (cheap: no differentiation):
+    each variable's text once per state it depends on."""
     deps, order = _prepare(eqs)
-    return len(order) + sum(len(deps.of_var.get(v, ())) for v in order) + nnz
+    return sum(len(E.to_c(eqs.variables[v], names)) * (1 + len(deps.of_var.get(v, ()))) for v in order)
 
 
 def jacobian_definitions(eqs: Equations, rows: list[int], cols: list[int]):
@@ -56,10 +57,10 @@ def jacobian_definitions(eqs: Equations, rows: list[int], cols: list[int]):
     return order, dvars, entries
 
 
-def jacobian_c(eqs: Equations, names, rows: list[int], cols: list[int], max_lines: int | None = None) -> list[str]:
-    """C lines of ``hy_jac`` (empty when it would exceed ``max_lines``: the integrator then
-    uses finite differences)."""
-    if max_lines is not None and jacobian_size(eqs, len(rows)) > max_lines:
+def jacobian_c(eqs: Equations, names, rows: list[int], cols: list[int], max_chars: int | None = None) -> list[str]:
+    """C lines of ``hy_jac`` (empty when its estimated size exceeds ``max_chars``: the
+    integrator then uses finite differences)."""
+    if max_chars is not None and jacobian_size(eqs, names) > max_chars:
         return []
     order, dvars, entries = jacobian_definitions(eqs, rows, cols)
     lines = ["#define HY_HAS_JAC",
