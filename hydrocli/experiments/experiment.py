@@ -1,7 +1,8 @@
 """An experiment: the inputs that drive a machine and the measurements to compare with.
 
-``load_experiment(path, model)`` accepts an experiment YAML file or a plain recording
-(a CSV whose columns are named like the machine's inputs and outputs).
+``load_experiment(path, model)`` accepts an experiment YAML file (``file.yaml#name`` picks
+one of several; format in experiment_file.py and docs/experiments.md) or a plain recording
+(.csv/.h5/.mat whose columns are named like the machine's inputs and outputs).
 """
 from __future__ import annotations
 
@@ -28,17 +29,31 @@ class Experiment:
     initial_from_data: bool = True
     thresholds: dict[str, float] = field(default_factory=dict)      # output → max ESR %
     description: str = ""
+    fit_outputs: list[str] = field(default_factory=list)            # outputs to fit ([] = all measured)
+    weights: dict[str, float] = field(default_factory=dict)         # output → weight (cost 'wls')
+    settle: float = 0.0          # > 0: pre-roll [s] with inputs frozen at their first value (initial: steady)
 
-    def x0(self, model: Model) -> np.ndarray:
+    def x0(self, model: Model, p: np.ndarray | None = None) -> np.ndarray:
         """Initial state: the model's, then states measured directly (first sample), then
-        the experiment's explicit values; spool states start at the first command."""
+        the experiment's explicit values; with ``settle`` > 0 the machine then runs that long
+        with the inputs frozen at their first value (parameters ``p``) and starts from there."""
+        x0 = self._x0_given(model)
+        if self.settle > 0:
+            from ..solve.simulate import SolverOptions, simulate
+            frozen = InputTable(np.array([0.0]), self.inputs.U[:1].copy())
+            traj = simulate(model, frozen, np.array([0.0, self.settle]), p=p, x0=x0, opts=SolverOptions(rtol=1e-6))
+            x0 = traj.X[-1].copy()
+        return x0
+
+    def _x0_given(self, model: Model) -> np.ndarray:
         x0 = model.x0.copy()
         if self.initial_from_data:
             for out, values in self.measured.items():
                 e = model.equations.output_exprs.get(out)
                 state = _direct_state(model, e)
-                if state is not None and values.size:
-                    x0[model.state_index(state)] = values[0]
+                finite = values[np.isfinite(values)] if state is not None else values[:0]
+                if finite.size:
+                    x0[model.state_index(state)] = finite[0]
         for name, v in self.initial.items():
             x0[model.state_index(name)] = v
         return x0
@@ -59,6 +74,12 @@ def _direct_state(model: Model, e) -> str | None:
 
 
 def load_experiment(path: str | Path, model: Model) -> Experiment:
+    """One experiment; ``file.yaml#name`` picks one of several in an experiment file."""
+    text = str(path)
+    if "#" in text and text.split("#", 1)[0].lower().endswith((".yaml", ".yml")):
+        from .experiment_file import load_experiment_file
+        file, name = text.split("#", 1)
+        return load_experiment_file(file, model, name=name)
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".csv":

@@ -10,6 +10,7 @@ r = (ŷ − y)/(s_eo·sqrt(N_eo)), so that the cost Σr² is
 """
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,7 +46,7 @@ def make_targets(model: Model, experiments: list[Experiment], outputs: list[str]
         raise IdentifyError(Problem(f"unknown cost '{cost}'", hint=f"use one of {', '.join(COSTS)}"))
     targets = []
     for exp in experiments:
-        names = [o for o in (outputs or list(exp.measured)) if o in exp.measured]
+        names = [o for o in (outputs or exp.fit_outputs or list(exp.measured)) if o in exp.measured]
         if outputs:
             missing = [o for o in outputs if o not in exp.measured]
             if missing:
@@ -64,7 +65,7 @@ def make_targets(model: Model, experiments: list[Experiment], outputs: list[str]
             elif cost == "seed004":
                 s = float(np.max(np.abs(y[m])))
             else:
-                w = (weights or {}).get(o, 1.0)
+                w = (weights or {}).get(o, exp.weights.get(o, 1.0))
                 s = 1.0 / w if w else np.inf
             if not np.isfinite(s) or s <= 0:
                 s = 1.0
@@ -77,27 +78,38 @@ def make_targets(model: Model, experiments: list[Experiment], outputs: list[str]
 
 
 class Objective:
-    """Simulate all experiments for a full parameter vector; return stacked residuals."""
+    """Simulate all experiments for a full parameter vector; return stacked residuals.
+
+    Thread-safe: the compiled solver releases the GIL, so Jacobian columns can be
+    evaluated in parallel threads (fit's ``workers``)."""
 
     def __init__(self, model: Model, targets: list[Target], opts: SolverOptions | None = None):
         self.model, self.targets = model, targets
-        self.opts = opts or SolverOptions(rtol=1e-5)
+        self.opts = opts or SolverOptions(rtol=1e-6)
         self.n_evals = 0
         self.n_failed = 0
         self.size = sum(t.size for t in targets)
+        self._lock = threading.Lock()
+        self._x0 = [None if t.exp.settle > 0 else t.exp.x0(model) for t in targets]
+
+    def x0(self, i: int, p: np.ndarray) -> np.ndarray:
+        """Initial state of target i (settled with parameters p when the experiment asks)."""
+        return self._x0[i] if self._x0[i] is not None else self.targets[i].exp.x0(self.model, p)
 
     def simulate_all(self, p: np.ndarray) -> list[np.ndarray]:
-        return [simulate(self.model, t.exp.inputs, t.exp.t_out, p=p, x0=t.exp.x0(self.model), opts=self.opts).Y
-                for t in self.targets]
+        return [simulate(self.model, t.exp.inputs, t.exp.t_out, p=p, x0=self.x0(i, p), opts=self.opts).Y
+                for i, t in enumerate(self.targets)]
 
     def residuals(self, p: np.ndarray) -> np.ndarray:
-        self.n_evals += 1
+        with self._lock:
+            self.n_evals += 1
         out = []
-        for t in self.targets:
+        for i, t in enumerate(self.targets):
             try:
-                Y = simulate(self.model, t.exp.inputs, t.exp.t_out, p=p, x0=t.exp.x0(self.model), opts=self.opts).Y
+                Y = simulate(self.model, t.exp.inputs, t.exp.t_out, p=p, x0=self.x0(i, p), opts=self.opts).Y
             except HydroError:
-                self.n_failed += 1
+                with self._lock:
+                    self.n_failed += 1
                 out.extend(np.full(int(m.sum()), FAIL_RESIDUAL) for m in t.masks)
                 continue
             for col, y, m, s in zip(t.cols, t.values, t.masks, t.scales):

@@ -9,7 +9,9 @@ box to parameter units. Ctrl-C stops the search and keeps the best point so far.
 """
 from __future__ import annotations
 
+import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -23,6 +25,7 @@ from .cost import Objective, make_targets
 from .transforms import FreeParameters
 
 METHODS = ("least-squares", "nelder-mead", "differential-evolution")
+FTOL = 1e-6    # least-squares stops when a step lowers the cost by less than this fraction
 
 
 @dataclass
@@ -78,7 +81,9 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
         method: str = "least-squares", cost: str = "esr", outputs: list[str] | None = None,
         weights: dict[str, float] | None = None, bounds: dict[str, tuple[float, float]] | None = None,
         p_start: np.ndarray | None = None, max_evals: int = 400, opts: SolverOptions | None = None,
-        progress=None, seed: int = 0) -> FitResult:
+        progress=None, seed: int = 0, workers: int = 1) -> FitResult:
+    """``workers`` > 1 evaluates finite-difference Jacobian columns in that many threads
+    (the compiled solver releases the GIL); the result does not depend on it."""
     if method not in METHODS:
         raise IdentifyError(Problem(f"unknown method '{method}'", hint=f"use one of {', '.join(METHODS)}"))
     fp = FreeParameters.from_model(model, free, bounds)
@@ -86,24 +91,39 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
     objective = Objective(model, make_targets(model, experiments, outputs, cost, weights), opts)
     tracker = _Tracker(progress)
     z0 = fp.to_z(base[fp.index])
+    lock = threading.Lock()
+    last: dict = {}
 
     def residuals(z):
         r = objective.residuals(fp.full_vector(base, fp.from_z(z)))
-        tracker.see(z, float(r @ r))
+        with lock:
+            tracker.see(z, float(r @ r))
         return r
+
+    def fun(z):
+        if "z" in last and np.array_equal(last["z"], z):
+            return last["r"]
+        r = residuals(z)
+        last["z"], last["r"] = np.array(z, copy=True), r
+        return r
+
+    def jac(z):
+        J = jacobian(residuals, z, fun(z), workers)
+        last["jz"], last["J"] = np.array(z, copy=True), J
+        return J
 
     def scalar(z):
         return float(np.sum(residuals(z) ** 2))
 
     t0 = time.perf_counter()
-    r0 = residuals(z0)
+    r0 = fun(z0)
     cost0 = float(r0 @ r0)
-    interrupted, message, jac = False, "", None
+    interrupted, message = False, ""
     try:
         if method == "least-squares":
-            sol = optimize.least_squares(residuals, z0, bounds=(0.0, 1.0), method="trf", x_scale=1.0,
-                                         diff_step=1e-3, max_nfev=max_evals, xtol=1e-6, ftol=1e-8)
-            message, jac = sol.message, sol.jac
+            sol = optimize.least_squares(fun, z0, jac=jac, bounds=(0.0, 1.0), method="trf", x_scale=1.0,
+                                         max_nfev=max_evals, xtol=1e-6, ftol=FTOL)
+            message = sol.message
         elif method == "nelder-mead":
             sol = optimize.minimize(scalar, z0, method="Nelder-Mead", bounds=[(0, 1)] * len(z0),
                                     options={"maxfev": max_evals, "xatol": 1e-5, "fatol": 1e-10, "adaptive": True})
@@ -115,12 +135,14 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
     except KeyboardInterrupt:
         interrupted, message = True, "interrupted: kept the best parameters so far"
     z_best = tracker.best_z if tracker.best_z is not None else z0
-    if objective.n_failed and tracker.best_cost >= cost0 and not np.isfinite(tracker.best_cost):
-        raise IdentifyError(Problem("every trial simulation failed", hint="check bounds and the machine"))
+    if objective.n_evals and objective.n_failed == objective.n_evals:
+        raise IdentifyError(Problem(f"every trial simulation failed ({objective.n_failed})",
+                                    hint="check the bounds, the initial state and the machine with 'hydro simulate'"))
     est = fp.from_z(z_best)
     p_best = fp.full_vector(base, est)
-    stderr, corr = _uncertainty(residuals if jac is None else None, jac, z_best, fp, tracker.best_cost,
-                                objective.size, interrupted)
+    untracked = lambda z: objective.residuals(fp.full_vector(base, fp.from_z(z)))   # noqa: E731
+    J = last["J"] if "jz" in last and np.array_equal(last["jz"], z_best) else None   # reuse the last Jacobian
+    stderr, corr = _uncertainty(untracked, z_best, fp, tracker.best_cost, objective.size, interrupted, workers, J)
     res = FitResult(names=fp.names, initial=base[fp.index], estimates=est, lower=fp.lo, upper=fp.hi,
                     stderr=stderr, correlation=corr, cost_initial=cost0, cost=tracker.best_cost,
                     cost_history=tracker.history, p=p_best, n_evals=objective.n_evals, n_failed=objective.n_failed,
@@ -130,22 +152,36 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
     return res
 
 
-def _uncertainty(residual_fn, jac, z, fp: FreeParameters, ssr: float, m: int, interrupted: bool):
+def jacobian(residual_fn, z: np.ndarray, r0: np.ndarray, workers: int = 1, step: float = 1e-3) -> np.ndarray:
+    """Forward differences in the unit box (step ``step``, backwards near the upper bound);
+    columns in ``workers`` threads."""
+    z = np.asarray(z, float)
+
+    def column(i):
+        h = step if z[i] + step <= 1.0 else -step
+        zz = z.copy()
+        zz[i] += h
+        return (residual_fn(zz) - r0) / h
+
+    if workers > 1 and len(z) > 1:
+        with ThreadPoolExecutor(max_workers=workers) as ex:
+            cols = list(ex.map(column, range(len(z))))
+    else:
+        cols = [column(i) for i in range(len(z))]
+    return np.column_stack(cols) if cols else np.zeros((r0.size, 0))
+
+
+def _uncertainty(residual_fn, z, fp: FreeParameters, ssr: float, m: int, interrupted: bool, workers: int = 1,
+                 J: np.ndarray | None = None):
     k = len(z)
     nan = np.full(k, np.nan), np.full((k, k), np.nan)
-    if interrupted:
+    if interrupted or k == 0:
         return nan
-    if jac is None:
-        if residual_fn is None:
+    if J is None:
+        try:
+            J = jacobian(residual_fn, z, residual_fn(z), workers)
+        except KeyboardInterrupt:
             return nan
-        r0 = residual_fn(z)
-        jac = np.empty((r0.size, k))
-        for i in range(k):
-            h = 1e-3 if z[i] < 0.999 else -1e-3
-            zz = z.copy()
-            zz[i] += h
-            jac[:, i] = (residual_fn(zz) - r0) / h
-    J = np.asarray(jac, float)
     dof = max(m - k, 1)
     sigma2 = ssr / dof
     try:
@@ -162,10 +198,11 @@ def _uncertainty(residual_fn, jac, z, fp: FreeParameters, ssr: float, m: int, in
 
 def fit_warnings(res: FitResult, fp: FreeParameters) -> list[str]:
     out = []
-    for n in fp.at_bound(res.estimates):
+    at_bound = fp.at_bound(res.estimates)
+    for n in at_bound:
         out.append(f"{n} ended at a bound: widen its bounds or check the model")
     for n, v, s in zip(res.names, res.estimates, res.stderr):
-        if np.isfinite(s) and v != 0 and s / abs(v) > 0.5:
+        if n not in at_bound and np.isfinite(s) and v != 0 and s / abs(v) > 0.5:
             out.append(f"{n} is poorly determined (standard error {100 * s / abs(v):.0f} % of its value)")
     k = len(res.names)
     for i in range(k):

@@ -1,0 +1,155 @@
+"""``hydro identify``: fit free parameters to recordings (single, staged, steady, batch).
+
+    hydro identify MACHINE --experiment E1 [--experiment E2 …] [--free comp.param[=lo:hi] …]
+        [--method least-squares|nelder-mead|differential-evolution] [--cost esr|seed004|wls]
+        [--outputs P1,P2,v] [--mode dynamic|steady] --out identified.yaml [--results run.h5]
+        [--max-evals N] [--set comp.param=VALUE …] [--rtol 1e-6] [--workers 2]
+    hydro identify MACHINE --stages stages.yaml --out identified.yaml [--results run.h5]
+    hydro identify MACHINE --batch 'experiments/festo/*.yaml' --jobs N [--scheduler tcp://HOST:PORT]
+        --out table.csv
+
+``--out`` is the machine YAML with the identified values written back (comments and units
+kept; a diff is printed), or in batch mode the CSV table. ``--results run.h5`` simulates each
+experiment with the identified parameters and writes it with ``/identify``; with several
+experiments the files are ``run_<experiment>.h5`` next to the given name.
+"""
+from __future__ import annotations
+
+import glob
+from pathlib import Path
+
+import typer
+
+from .options import SET
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("identify")
+    def identify_cmd(
+        machine: Path = typer.Argument(..., help="machine YAML file"),
+        experiment: list[str] = typer.Option(None, "--experiment", "-e", help="experiment YAML or recording; repeatable"),
+        free: list[str] = typer.Option(None, "--free", help="free parameter comp.param or comp.param=lo:hi (SI or units); "
+                                                             "default: those marked free in the machine"),
+        method: str = typer.Option("least-squares", "--method", help="least-squares | nelder-mead | differential-evolution"),
+        cost: str = typer.Option("esr", "--cost", help="esr | seed004 | wls"),
+        outputs: str = typer.Option(None, "--outputs", help="outputs to fit, e.g. P1,P2,v (default: the experiment's 'fit:')"),
+        mode: str = typer.Option("dynamic", "--mode", help="dynamic (whole transients) | steady (plateau averages)"),
+        out: Path = typer.Option(None, "--out", "-o", help="identified machine YAML (batch: CSV table)"),
+        results: Path = typer.Option(None, "--results", help="HDF5 result with /identify (several experiments: run_<exp>.h5)"),
+        max_evals: int = typer.Option(400, "--max-evals", help="maximum number of trial simulations"),
+        stages: Path = typer.Option(None, "--stages", help="stages YAML file (staged identification)"),
+        batch: str = typer.Option(None, "--batch", help="glob of experiment files, each fitted separately"),
+        jobs: int = typer.Option(2, "--jobs", "-j", help="batch: parallel worker processes"),
+        scheduler: str = typer.Option(None, "--scheduler", help="batch: Dask scheduler address tcp://HOST:PORT"),
+        workers: int = typer.Option(2, "--workers", help="threads for finite-difference Jacobian columns"),
+        rtol: float = typer.Option(1e-6, "--rtol", help="relative tolerance of the integrator while fitting"),
+        sets: list[str] = SET,
+    ) -> None:
+        """Identify uncertain parameters from recordings and write the identified machine."""
+        from .main import run_guarded
+        run_guarded(_run, locals())
+
+
+def _usage(msg: str) -> None:
+    typer.echo(f"usage error: {msg}", err=True)
+    raise typer.Exit(2)
+
+
+def _run(a: dict) -> None:
+    from ..runner import load_machine
+    from ..solve.simulate import SolverOptions
+
+    n_modes = sum(bool(x) for x in (a["experiment"], a["stages"], a["batch"]))
+    if n_modes != 1:
+        _usage("give --experiment (one or more), --stages FILE, or --batch GLOB (exactly one of them)")
+    if a["out"] is None:
+        _usage("--out is required (identified machine YAML, or the CSV table with --batch)")
+    net, model = load_machine(a["machine"], a["sets"])
+    for w in model.warnings:
+        typer.echo(f"warning: {w}", err=True)
+    free, bounds = parse_free(a["free"], model)
+    opts = SolverOptions(rtol=a["rtol"])
+    outputs = [o.strip() for o in a["outputs"].split(",") if o.strip()] if a["outputs"] else None
+    if a["batch"]:
+        return _batch(a, model, free, bounds, outputs, opts)
+    from ..experiments.experiment_file import load_all
+    from ..identify.output import print_fit, progress_bar, write_outputs
+    if a["stages"]:
+        from ..identify.staged import combine, load_stages, run_stages
+        stages = load_stages(a["stages"], model)
+        for st in stages:                                 # data errors before any fitting
+            for path in st.experiments:
+                load_all(path, model)
+        with progress_bar(sum(s.max_evals for s in stages)) as prog:
+            p, res_list = run_stages(model, stages, lambda path: load_all(path, model), opts=opts,
+                                     progress=prog.update, workers=a["workers"],
+                                     on_stage=lambda i, s: prog.stage(f"stage {i + 1}/{len(stages)}: {s.name}"))
+        for st, r in zip(stages, res_list):
+            typer.echo(f"\n== stage: {st.name} ({st.mode}) ==")
+            print_fit(r)
+        paths = list(dict.fromkeys(path for st in stages for path in st.experiments))
+        exps = [e for path in paths for e in load_all(path, model)]
+        names = [n for r in res_list for n in r.names]
+        write_outputs(net, model, exps, p, names, combine(res_list, stages), a["out"], a["results"], opts)
+        return
+    exps = [e for path in a["experiment"] for e in load_all(path, model)]
+    with progress_bar(a["max_evals"]) as prog:
+        kw = dict(method=a["method"], cost=a["cost"], outputs=outputs, bounds=bounds, max_evals=a["max_evals"],
+                  opts=opts, progress=prog.update, workers=a["workers"])
+        if a["mode"] == "steady":
+            from ..identify.steady import fit_steady
+            kw.pop("cost")
+            res, plateaus = fit_steady(model, exps, free, **kw)
+            typer.echo(f"steady-state fit on {len(plateaus)} plateau(s)")
+        elif a["mode"] == "dynamic":
+            from ..identify.fit import fit
+            res = fit(model, exps, free, **kw)
+        else:
+            _usage(f"--mode {a['mode']}: use dynamic or steady")
+    print_fit(res)
+    write_outputs(net, model, exps, res.p, res.names, res.as_dict(), a["out"], a["results"], opts)
+
+
+def parse_free(items, model) -> tuple[list[str] | None, dict[str, tuple[float, float]]]:
+    """``comp.param`` or ``comp.param=lo:hi`` (numbers in SI, or strings with units)."""
+    from ..errors import NetlistError, Location, Problem
+    from ..units import to_si
+    if not items:
+        return None, {}
+    names, bounds = [], {}
+    for item in items:
+        name, eq, rng = item.partition("=")
+        name = name.strip()
+        i = model.param_index(name)
+        names.append(name)
+        if eq:
+            parts = rng.split(":")
+            if len(parts) != 2:
+                raise NetlistError(Problem(f"--free {item}: bounds must be lo:hi", Location(path=f"--free {item}"),
+                                           "e.g. --free valve.Kv=1e-7:2e-6 or --free cylinder.beta='0.5 GPa:2 GPa'"))
+            unit = model.params[i].unit
+            lo, hi = (to_si(p.strip(), unit, location=Location(path=f"--free {item}"), what=name) for p in parts)
+            bounds[name] = (lo, hi)
+    return names, bounds
+
+
+def _batch(a, model, free, bounds, outputs, opts) -> None:
+    from ..experiments.experiment_file import load_all
+    from ..identify.batch import run_batch
+    paths = sorted(glob.glob(a["batch"]))
+    if not paths:
+        from ..errors import DataError, Problem
+        raise DataError(Problem(f"--batch '{a['batch']}' matches no file", hint="quote the glob so the shell keeps it"))
+    exps = [e for p in paths for e in load_all(p, model)]
+    where = a["scheduler"] or f"{a['jobs']} local process(es)"
+    typer.echo(f"batch: {len(exps)} experiment(s) from {len(paths)} file(s) on {where}")
+    options = dict(method=a["method"], cost=a["cost"], outputs=outputs, bounds=bounds, max_evals=a["max_evals"],
+                   opts=opts)
+    res = run_batch(model, exps, free, jobs=a["jobs"], scheduler=a["scheduler"], options=options,
+                    on_done=lambda i, r: typer.echo(f"  [{i + 1}/{len(exps)}] {r['experiment']}: "
+                                                   + (f"cost {r['cost']:.4g} in {r['seconds']:.1f} s" if "error" not in r
+                                                      else "FAILED: " + r["error"].splitlines()[0])))
+    from ..identify.output import print_table
+    print_table(res.table_rows())
+    res.write_csv(a["out"])
+    typer.echo(f"table → {a['out']}")

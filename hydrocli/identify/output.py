@@ -1,0 +1,98 @@
+"""What ``hydro identify`` prints and writes: the progress bar, the parameter table with
+standard errors, the correlation matrix, warnings, the diff of the machine file, the
+identified YAML and the HDF5 results."""
+from __future__ import annotations
+
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+import typer
+
+
+class _Progress:
+    def __init__(self, prog, task):
+        self.prog, self.task = prog, task
+
+    def update(self, n: int, cost: float, best: float) -> None:
+        self.prog.update(self.task, completed=n, info=f"eval {n}  cost {cost:.5g}  best {best:.5g}")
+
+    def stage(self, text: str) -> None:
+        self.prog.update(self.task, description=text)
+
+
+@contextmanager
+def progress_bar(total: int):
+    """A rich progress bar on stderr (iteration, cost, best cost); quiet when not a terminal."""
+    from rich.console import Console
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+    console = Console(stderr=True)
+    with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[info]}"),
+                  TimeElapsedColumn(), console=console, transient=False, disable=not console.is_terminal) as prog:
+        task = prog.add_task("identify", total=total, info="")
+        yield _Progress(prog, task)
+
+
+def _fmt(v: float) -> str:
+    return f"{v:.5g}" if np.isfinite(v) else "-"
+
+
+def print_fit(res) -> None:
+    typer.echo(f"{res.method}: {res.message} ({res.n_evals} simulations, {res.seconds:.1f} s"
+               + (", interrupted" if res.interrupted else "") + ")")
+    typer.echo(f"cost {res.cost_initial:.6g} → {res.cost:.6g} over {res.n_residuals} residuals")
+    rows = [["parameter", "initial", "estimate", "std error", "rel %", "lower", "upper"]]
+    for i, n in enumerate(res.names):
+        se, v = res.stderr[i], res.estimates[i]
+        rel = 100 * se / abs(v) if np.isfinite(se) and v != 0 else np.nan
+        rows.append([n, _fmt(res.initial[i]), _fmt(v), _fmt(se), _fmt(rel), _fmt(res.lower[i]), _fmt(res.upper[i])])
+    print_table(rows)
+    k = len(res.names)
+    if k > 1 and np.isfinite(res.correlation).any():
+        typer.echo("correlation matrix:")
+        short = [f"p{i + 1}" for i in range(k)]
+        lines = ["      " + " ".join(f"{s:>6}" for s in short)]
+        for i in range(k):
+            lines.append(f"{short[i]:>5} " + " ".join(f"{res.correlation[i, j]:+6.2f}" if np.isfinite(res.correlation[i, j])
+                                                     else f"{'-':>6}" for j in range(k)) + f"  {res.names[i]}")
+        typer.echo("\n".join(lines))
+    hist = res.cost_history
+    if hist:
+        marks = sorted({0, len(hist) // 4, len(hist) // 2, 3 * len(hist) // 4, len(hist) - 1})
+        typer.echo("best cost by evaluation: " + ", ".join(f"#{i + 1}: {hist[i]:.5g}" for i in marks))
+    for w in res.warnings:
+        typer.echo(f"warning: {w}", err=True)
+
+
+def print_table(rows: list[list]) -> None:
+    widths = [max(len(str(r[j])) for r in rows) for j in range(len(rows[0]))]
+    for i, r in enumerate(rows):
+        typer.echo("  ".join(str(c).ljust(w) for c, w in zip(r, widths)).rstrip())
+        if i == 0:
+            typer.echo("  ".join("-" * w for w in widths))
+
+
+def write_outputs(net, model, exps, p, names, identify: dict, out: Path, results: Path | None, opts) -> None:
+    """Identified YAML (+ printed diff) and, with ``results``, one HDF5 per experiment."""
+    from ..metrics import esr
+    from ..netlist.writer import diff_text, set_parameters
+    from ..netlist.yamldoc import write_atomic
+    from ..results import write_result
+    from ..runner import simulate_experiment
+
+    values = {n: float(p[model.param_index(n)]) for n in names}
+    new_text = set_parameters(net, values)
+    write_atomic(out, new_text)
+    typer.echo(diff_text(Path(net.file).read_text(encoding="utf-8"), new_text, Path(net.file).name)
+               or "(no change to the machine file)")
+    typer.echo(f"identified machine → {out}")
+    for exp in exps:
+        res = simulate_experiment(model, exp, p=p, opts=opts)
+        scores = ", ".join(f"{o} {esr(exp.measured[o], res.outputs[o], exp.mask.get(o)):.3g} %"
+                           for o in exp.measured)
+        typer.echo(f"ESR on {exp.name}: {scores}")
+        if results:
+            res.identify = identify
+            path = results if len(exps) == 1 else results.with_name(f"{results.stem}_{exp.name}{results.suffix}")
+            write_result(path, res)
+            typer.echo(f"result → {path}")
