@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from conftest import col, run
+from simhelpers import col, run
 from hydrocli.errors import NetlistError
 from hydrocli.netlist.loader import load_netlist_text
 

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from conftest import col, oscillation_frequency, run
+from simhelpers import col, oscillation_frequency, run
 from hydrocli.components.hydraulic.lines import laminar_resistance, single_lump_frequency
 from hydrocli.model.builder import build_model
 from hydrocli.netlist.loader import load_netlist_text

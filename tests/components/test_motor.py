@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from conftest import col, run
+from simhelpers import col, run
 from helpers import evaluate, pinned_model
 
 

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from conftest import col, run
+from simhelpers import col, run
 
 JA = dict(i_s=0.5, mu0=8.0, alpha=0.05, k=0.2, Lambda=1.0)
 TEXT = """

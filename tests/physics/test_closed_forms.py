@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from conftest import col, oscillation_frequency, run
+from simhelpers import col, oscillation_frequency, run
 
 BETA = 1.5e9
 

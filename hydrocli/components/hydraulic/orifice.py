@@ -4,6 +4,7 @@ from __future__ import annotations
 from ...model import expr as E
 from ..base import Component, H, Param, Port, VariableSpec
 from ..registry import register
+from ..two_port import across_drop, branch
 
 
 @register
@@ -24,9 +25,7 @@ class Orifice(Component):
     variables = (VariableSpec("q", "m^3/s", "flow from A to B"),)
 
     def equations(self, c):
-        q = c.let("q", c.p.Kv * E.signed_sqrt(c.across("A") - c.across("B"), c.p.dp_lam))
-        c.through("A", q)
-        c.through("B", -q)
+        branch(c, "q", c.p.Kv * E.signed_sqrt(across_drop(c, "A", "B"), c.p.dp_lam), "A", "B")
 
 
 @register
@@ -42,6 +41,4 @@ class LaminarResistance(Component):
     variables = (VariableSpec("q", "m^3/s", "flow from A to B"),)
 
     def equations(self, c):
-        q = c.let("q", (c.across("A") - c.across("B")) / c.p.R)
-        c.through("A", q)
-        c.through("B", -q)
+        branch(c, "q", across_drop(c, "A", "B") / c.p.R, "A", "B")

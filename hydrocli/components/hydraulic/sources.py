@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from ..base import Component, H, Param, Port, S, VariableSpec
 from ..registry import register
+from ..two_port import signal_or_param
 
 
 @register
@@ -35,7 +36,7 @@ class PressureSource(Component):
     variables = (VariableSpec("q", "m^3/s", "flow delivered into the node"),)
 
     def equations(self, c):
-        c.impose("P", c.signal("ref") if c.connected("ref") else c.p.p)
+        c.impose("P", signal_or_param(c, "ref", "p"))
         c.let("q", c.node_through("P"))
 
 
@@ -51,5 +52,4 @@ class FlowSource(Component):
     parameters = (Param("Q", "m^3/s", 0.0, "flow when 'ref' is not connected"),)
 
     def equations(self, c):
-        q = c.signal("ref") if c.connected("ref") else c.p.Q
-        c.through("P", -q)
+        c.through("P", -signal_or_param(c, "ref", "Q"))

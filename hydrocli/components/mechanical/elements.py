@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from ..base import Component, Param, Port, S, StateSpec, T, VariableSpec
 from ..registry import register
+from ..two_port import across_drop, branch, signal_or_param
 
 
 @register
@@ -43,13 +44,12 @@ class Spring(Component):
         Param("k", "N/m", 1e5, "stiffness", positive=True, bounds=(1.0, 1e10)),
         Param("F0", "N", 0.0, "initial tension force (+ pulls a toward b)"),
     )
-    states = (StateSpec("F", "N", "spring tension", nominal=100.0),)
+    states = (StateSpec("dF", "N", "tension change since t0, k·∫(v_a − v_b)dt", nominal=100.0),)
+    variables = (VariableSpec("F", "N", "spring tension F0 + dF"),)
 
     def equations(self, c):
-        f = c.state("F")
-        c.der("F", c.p.k * (c.across("a") - c.across("b")))
-        c.through("a", f)
-        c.through("b", -f)
+        c.der("dF", c.p.k * across_drop(c))
+        branch(c, "F", c.p.F0 + c.state("dF"))
 
 
 @register
@@ -65,9 +65,7 @@ class Damper(Component):
     variables = (VariableSpec("F", "N", "damper force"),)
 
     def equations(self, c):
-        f = c.let("F", c.p.c * (c.across("a") - c.across("b")))
-        c.through("a", f)
-        c.through("b", -f)
+        branch(c, "F", c.p.c * across_drop(c))
 
 
 @register
@@ -83,5 +81,4 @@ class ForceSource(Component):
     parameters = (Param("F0", "N", 0.0, "force when the signal port is not connected"),)
 
     def equations(self, c):
-        f = c.signal("F") if c.connected("F") else c.p.F0
-        c.through("a", -f)
+        c.through("a", -signal_or_param(c, "F", "F0"))

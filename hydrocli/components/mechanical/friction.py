@@ -5,6 +5,7 @@ from ...model import expr as E
 from ..base import Component, H, Param, Port, T, VariableSpec
 from ..dynamics import tanh_sign
 from ..registry import register
+from ..two_port import branch
 
 
 def friction_force(v, kv, kc, ks, vs, eps):
@@ -50,9 +51,7 @@ class Friction(Component):
         f = E.where(v >= 0.0, f_pos, f_neg)
         if c.connected("pa") and c.connected("pb"):
             f = f + p.mu_p * p.A_p * (c.across("pa") + c.across("pb")) * tanh_sign(v, p.eps)
-        f = c.let("F", f)
-        c.through("a", f)
-        c.through("b", -f)
+        branch(c, "F", f)
 
 
 @register
@@ -84,6 +83,4 @@ class CylinderFriction(Component):
         p = c.p
         v = c.across("a") - c.across("b")
         f_p = c.let("F_p", c.across("pa") * p.A_A - c.across("pb") * p.A_B)
-        f = c.let("F", (p.F_S + p.C_p * E.fabs(f_p)) * E.clamp(v / p.v0, -1.0, 1.0))
-        c.through("a", f)
-        c.through("b", -f)
+        branch(c, "F", (p.F_S + p.C_p * E.fabs(f_p)) * E.clamp(v / p.v0, -1.0, 1.0))

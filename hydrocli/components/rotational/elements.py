@@ -6,6 +6,7 @@ from ...model import expr as E
 from ..base import Component, Param, Port, R, S, StateSpec, VariableSpec
 from ..mechanical.friction import friction_force
 from ..registry import register
+from ..two_port import across_drop, branch, signal_or_param
 
 
 @register
@@ -50,12 +51,10 @@ class Shaft(Component):
     variables = (VariableSpec("tau", "N*m", "transmitted torque"),)
 
     def equations(self, c):
-        dw = c.across("a") - c.across("b")
+        dw = across_drop(c)
         tk = c.state("tau_k")
         c.der("tau_k", c.p.k * dw)
-        tau = c.let("tau", tk + (c.p.b * dw if c.active("b") else 0.0))
-        c.through("a", tau)
-        c.through("b", -tau)
+        branch(c, "tau", tk + (c.p.b * dw if c.active("b") else 0.0))
 
 
 @register
@@ -71,9 +70,7 @@ class RotaryDamper(Component):
     variables = (VariableSpec("tau", "N*m", "damper torque"),)
 
     def equations(self, c):
-        tau = c.let("tau", c.p.b * (c.across("a") - c.across("b")))
-        c.through("a", tau)
-        c.through("b", -tau)
+        branch(c, "tau", c.p.b * across_drop(c))
 
 
 @register
@@ -89,7 +86,7 @@ class TorqueSource(Component):
     parameters = (Param("tau0", "N*m", 0.0, "torque when the signal port is not connected"),)
 
     def equations(self, c):
-        c.through("a", -(c.signal("tau") if c.connected("tau") else c.p.tau0))
+        c.through("a", -signal_or_param(c, "tau", "tau0"))
 
 
 @register

@@ -1,14 +1,10 @@
+"""Helpers shared by the physics and component tests: build a machine from YAML text and
+simulate it; measure an oscillation frequency."""
 import numpy as np
-import pytest
 
 from hydrocli.model.builder import build_model
 from hydrocli.netlist.loader import load_netlist_text
 from hydrocli.solve.simulate import InputTable, SolverOptions, simulate
-
-
-@pytest.fixture(autouse=True)
-def _cache(tmp_path_factory, monkeypatch):
-    monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "hydro_cache"))
 
 
 def run(text, t_end, n=2001, inputs=None, rtol=1e-8, x0=None, backend="auto", max_step=np.inf):
