@@ -533,3 +533,144 @@ static int hy_jac(double t, const double *x, const double *p, const double *u, d
     assert ra.status == rf.status == 0
     np.testing.assert_allclose(ra.X, rf.X, atol=1e-6)
     assert ra.stats["rhs_evals"] < rf.stats["rhs_evals"]
+
+
+# ------------------------------------------------------------------ 8. method coefficients
+# HY_METHOD selects the RODAS coefficient set: 1 Rodas4, 2 Rodas4P, 3 Rodas5P (default).
+# The tables are verified here by their convergence orders at FIXED steps (h0 = hmax,
+# error test disabled by a huge rtol with atol/rtol tiny so FD scaling stays sane) with an
+# analytic Jacobian (HY_HAS_JAC), so that only the coefficients are tested.
+METHODS = {1: "rodas4", 2: "rodas4p", 3: "rodas5p"}
+_JAC_PRELUDE = """
+#define HY_HAS_JAC
+static int hy_jac(double t, const double *x, const double *p, const double *u, double *jv);
+"""
+# smooth, nonlinear, non-autonomous, exact solution e(t) = (1/(1+t) + sin t, cos 2t e^{-t/3})
+SMOOTH_RHS = """
+    double e0 = 1.0/(1.0+t) + sin(t), e1 = cos(2.0*t)*exp(-t/3.0);
+    double r0 = -1.0/((1.0+t)*(1.0+t)) + cos(t), r1 = (-2.0*sin(2.0*t) - cos(2.0*t)/3.0)*exp(-t/3.0);
+    dx[0] = -x[0]*x[0] + x[0]*x[1] - (-e0*e0 + e0*e1) + r0;
+    dx[1] = -x[1]*x[1]*x[1] + sin(x[0]) - (-e1*e1*e1 + sin(e0)) + r1;
+"""
+SMOOTH_JAC = """
+static int hy_jac(double t, const double *x, const double *p, const double *u, double *jv)
+{
+    (void)t; (void)p; (void)u;
+    jv[0] = -2.0*x[0] + x[1]; jv[1] = x[0]; jv[2] = cos(x[0]); jv[3] = -3.0*x[1]*x[1];
+    return 0;
+}
+"""
+
+
+def smooth_exact(t):
+    return np.array([1 / (1 + t) + np.sin(t), np.cos(2 * t) * np.exp(-t / 3)])
+
+
+# Prothero-Robinson y' = lam (y - g(t)) + g'(t), g = sin 2t + cos t, lam = -1e6, written
+# autonomously (x0 = t) so that f_t is exact (a forward difference of lam*g(t) in t would
+# lose ~8 digits by cancellation at lam = -1e6 and mask the method error).
+PR_RHS = """
+    dx[0] = 1.0;
+    dx[1] = p[0]*(x[1] - (sin(2.0*x[0]) + cos(x[0]))) + 2.0*cos(2.0*x[0]) - sin(x[0]);
+"""
+PR_JAC = """
+static int hy_jac(double t, const double *x, const double *p, const double *u, double *jv)
+{
+    (void)t; (void)u;
+    jv[0] = 0.0; jv[1] = 0.0;
+    jv[2] = -p[0]*(2.0*cos(2.0*x[0]) - sin(x[0])) - 4.0*sin(2.0*x[0]) - cos(x[0]);
+    jv[3] = p[0];
+    return 0;
+}
+"""
+
+
+def pr_exact(t):
+    return np.array([t, np.sin(2 * t) + np.cos(t)])
+
+
+def _method_model(cache, method, rhs, jac):
+    prelude = f"#define HY_METHOD {method}\n" + _JAC_PRELUDE
+    src = model_source(2, 1, 0, 0, dense_pattern(2), rhs, prelude=prelude) + jac
+    return CompiledModel(build_library(src, cache_dir=cache), 2, 1, 0, 0)
+
+
+def _fixed_step_errors(m, p, exact, T=2.0, Ns=(10, 20, 40, 80, 160), theta=0.37):
+    """End-point and dense-output (inside the last step) errors at N fixed steps."""
+    end, dense = [], []
+    for N in Ns:
+        h = T / N
+        t_out = np.array([0.0, T - (1 - theta) * h, T])
+        r = m.simulate(p, None, None, None, 0.0, exact(0.0), t_out, rtol=1e6, atol=1e-6,
+                       h0=h, hmax=h)
+        assert r.status == 0
+        assert r.stats["steps_accepted"] == N and r.stats["steps_rejected"] == 0
+        end.append(np.max(np.abs(r.X[-1] - exact(T))))
+        dense.append(np.max(np.abs(r.X[1] - exact(t_out[1]))))
+    return np.array(end), np.array(dense)
+
+
+def _orders(e):
+    return np.log2(e[:-1] / e[1:])
+
+
+@pytest.mark.parametrize("method,order", [(1, 4), (2, 4), (3, 5)])
+def test_method_order_smooth(cache, method, order):
+    """Nominal order on a smooth nonlinear non-autonomous problem (halving h)."""
+    m = _method_model(cache, method, SMOOTH_RHS, SMOOTH_JAC)
+    end, dense = _fixed_step_errors(m, [0.0], smooth_exact)
+    o = _orders(end)
+    # asymptotic order: the last two halvings; Rodas4 shows ~4.8 on this problem
+    assert np.all(o[-2:] > order - 0.3), (METHODS[method], o)
+    if order == 5:
+        assert np.all(o[-2:] > 4.6)  # really fifth order, not a fourth-order method
+    # dense output inside a step: local error O(h^(q+1)), q = 3 (Rodas4/4P), 4 (Rodas5P)
+    od = _orders(dense)
+    assert np.all(od[-2:] > (order - 1) + 1 - 0.35), (METHODS[method], od)
+
+
+def test_method_order_prothero_robinson(cache):
+    """lam = -1e6: Rodas4 loses order (~1), Rodas4P/Rodas5P keep order ~3 and are far
+    more accurate, both at the step ends and in the dense output."""
+    res = {}
+    for method in METHODS:
+        m = _method_model(cache, method, PR_RHS, PR_JAC)
+        res[method] = _fixed_step_errors(m, [-1e6], pr_exact, Ns=(10, 20, 40, 80))
+    o4 = _orders(res[1][0])
+    assert np.all(o4 < 2.0), o4  # the known order reduction of Rodas4
+    for method in (2, 3):
+        end, dense = res[method]
+        o = _orders(end)
+        assert np.all(o > 2.7), (METHODS[method], o)
+        assert np.all(end < res[1][0] / 30), (METHODS[method], end, res[1][0])
+        od = _orders(dense)
+        assert np.all(od[-2:] > 3.6), (METHODS[method], od)
+        assert np.all(dense < res[1][1] / 10)
+
+
+def test_default_method_is_rodas5p(cache):
+    """Without HY_METHOD the integrator is Rodas5P (bit-identical results)."""
+    t = np.linspace(0.0, 2.0, 21)
+    src = model_source(2, 1, 0, 0, dense_pattern(2), SMOOTH_RHS, prelude=_JAC_PRELUDE) + SMOOTH_JAC
+    m_def = CompiledModel(build_library(src, cache_dir=cache), 2, 1, 0, 0)
+    m_5p = _method_model(cache, 3, SMOOTH_RHS, SMOOTH_JAC)
+    r1 = m_def.simulate([0.0], None, None, None, 0.0, smooth_exact(0.0), t, rtol=1e-6, atol=1e-9)
+    r2 = m_5p.simulate([0.0], None, None, None, 0.0, smooth_exact(0.0), t, rtol=1e-6, atol=1e-9)
+    np.testing.assert_array_equal(r1.X, r2.X)
+    assert r1.stats == r2.stats
+
+
+@pytest.mark.parametrize("method", [1, 2, 3])
+def test_method_tolerance_proportionality(cache, method):
+    """Adaptive runs of every method: error falls with rtol and stays near it."""
+    m = _method_model(cache, method, SMOOTH_RHS, SMOOTH_JAC)
+    t = np.linspace(0.0, 5.0, 101)
+    ex = np.array([smooth_exact(s) for s in t])
+    errs = []
+    for rtol in (1e-4, 1e-6, 1e-8, 1e-10):
+        r = m.simulate([0.0], None, None, None, 0.0, smooth_exact(0.0), t, rtol=rtol, atol=rtol)
+        assert r.status == 0
+        errs.append(np.max(np.abs(r.X - ex)))
+    errs = np.array(errs)
+    assert np.all(errs[1:] < errs[:-1] / 10), errs
+    assert np.all(errs < 100 * np.array([1e-4, 1e-6, 1e-8, 1e-10])), errs

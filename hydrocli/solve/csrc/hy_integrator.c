@@ -9,20 +9,37 @@
  *
  * METHOD
  * ------
- * RODAS4: the 6-stage, order 4(3), stiffly accurate, L-stable Rosenbrock method of
- *   E. Hairer, G. Wanner, "Solving Ordinary Differential Equations II", 2nd ed.,
- *   Springer 1996, Sec. IV.7 (Table 7.2 / code RODAS, METH=1), with its order-3
- *   continuous extension (dense output) from the same code.
- * Why: hydraulic models are stiff (oil compressibility, tight rate limiters,
- *   steep friction tanh) but smooth between input samples.  A Rosenbrock method
- *   needs no Newton iteration (one LU per step, 6 linear solves, 6 rhs calls), so
- *   a step has a fixed, small cost and no convergence failures; stiff accuracy
- *   and L-stability give clean behaviour on very stiff modes; the embedded order-3
+ * A stiffly accurate, L-stable Rosenbrock(-Wanner) method of the RODAS family,
+ * selected at compile time by HY_METHOD:
+ *   1  RODAS4: 6 stages, order 4(3), E. Hairer, G. Wanner, "Solving Ordinary
+ *      Differential Equations II", 2nd ed., Springer 1996, Sec. IV.7 (code RODAS,
+ *      METH=1), order-3 dense output from the same code.
+ *   2  RODAS4P: G. Steinebach, "Order-reduction of ROW-methods for DAEs and method
+ *      of lines applications", Preprint 1741, TH Darmstadt 1995.  Same structure and
+ *      cost as RODAS4, but satisfies the extra conditions that avoid order
+ *      reduction on Prothero-Robinson-type problems (stiff states driven by
+ *      time-varying inputs); order-3 dense output.
+ *   3  RODAS5P (default): G. Steinebach, "Improvement of Rosenbrock-Wanner method
+ *      RODASP" (2023).  8 stages, order 5(4), no order reduction on
+ *      Prothero-Robinson problems, order-4 dense output.
+ *   The RODAS4P/RODAS5P tables are those distributed with OrdinaryDiffEq.jl
+ *   (Rodas4PTableau, Rodas5PTableau), which use exactly the RODAS conventions
+ *   below; their orders are verified by tests/solve/test_integrator.py.
+ * Why Rosenbrock: hydraulic models are stiff (oil compressibility, tight rate
+ *   limiters, steep friction tanh) but smooth between input samples.  A Rosenbrock
+ *   method needs no Newton iteration (one LU per step, s linear solves, s rhs
+ *   calls), so a step has a fixed, small cost and no convergence failures; stiff
+ *   accuracy and L-stability give clean behaviour on very stiff modes; the embedded
  *   solution gives a reliable error estimate; the dense output lets us produce a
  *   1 kHz output grid without shortening steps.
- * Formulation (transformed variables, as in RODAS):
+ * Why RODAS5P by default (measured on machines/eha_testbench.yaml, `hydro bench
+ *   --only eha`, analytic Jacobian): to reach the accuracy of scipy BDF (rtol 1e-6)
+ *   RODAS5P needs rtol 1e-7 and ~44k rhs calls / 4.3k steps, RODAS4 ~86k / 10k
+ *   steps and RODAS4P ~71k / 8.3k steps (about 1.5-1.9x the time).
+ * Formulation (transformed variables, as in RODAS; s = R_S stages):
  *   (I/(h*gam) - J) k_i = f(t + c_i h, x + sum_j a_ij k_j) + sum_j (c_ij/h) k_j + h d_i f_t
- *   x_new = x + sum_j a_6j k_j + k_6;  error estimate = k_6.
+ *   the last stages use y_i = y_(i-1) + k_(i-1) (stiff accuracy);
+ *   x_new = y_s + k_s;  error estimate = k_s (x_new minus the embedded solution).
  * Non-autonomous term f_t by a forward difference in t (inputs are evaluated on the
  *   segment the step starts in, so a kink of a linearly interpolated table is seen
  *   from the right).
@@ -30,10 +47,15 @@
  *   `static int hy_jac(t, x, p, u, double *jv)` (values in HY_JAC_ROW/COL order);
  *   otherwise forward differences with Curtis-Powell-Reid column grouping
  *   (greedy distance-2 colouring computed once per call from the sparsity pattern;
- *   each group costs one rhs evaluation).  Rodas4 is not a W-method, so J is
- *   re-evaluated at every accepted step (it is reused after a rejection).
+ *   each group costs one rhs evaluation).  The RODAS methods are not
+ *   W-methods, so J is re-evaluated at every accepted step (it is reused after a
+ *   rejection).
  * Step size: Gustafsson predictive (PI-type) controller exactly as in RODAS
- *   (safety 0.9, step ratio in [1/5, 6], no growth right after a rejection),
+ *   (exponent 1/R_Q with R_Q = 4 for RODAS4/4P, 5 for RODAS5P; safety 0.9, step
+ *   ratio in [1/5, 6], no growth right after a rejection).  Measured and rejected
+ *   on the EHA: a classical PI controller (exponents 0.7/q, 0.4/q) halves the
+ *   rejections (~25 % -> ~8 %) but takes more accepted steps and more rhs calls at
+ *   every tolerance; safety 0.8 or growth limit 3 do not pay off either.
  *   RMS error norm with sk = atol_i + rtol*max(|x_i|,|x_new_i|).  Steps are never
  *   forced onto the output grid (dense output); they are clipped to the last
  *   output time, to hmax, and -- only when some input is zero-order-hold -- to the
@@ -57,13 +79,12 @@
  * Memory: all work arrays are malloc'ed once per call and freed at the end; no
  *   static mutable state, so the function is reentrant (thread-safe).
  *
- * Known limitation: Rodas4 has stage order 1 and shows some order reduction on
- *   stiff components driven by fast time-varying inputs (Prothero-Robinson type);
- *   Rodas4P/Rodas5P (Steinebach) would be the drop-in cure (same structure, other
- *   coefficients).  Jacobian reuse across steps was measured to be much worse
- *   (Rodas4 is not a W-method), so J is fresh at every step.
+ * Known limitation: the EHA error is dominated by the transients right after the
+ *   square-wave command jumps (t = 5.0x s, 15.0x s) and by stick-slip events in
+ *   the steep friction tanh, where the step collapses through several rejections.
+ *   Jacobian reuse across steps was measured to be much worse (not W-methods).
  *
- * Compile-time knobs (define before including): HY_FORCE_DENSE, HY_FORCE_SPARSE,
+ * Compile-time knobs (define before including): HY_METHOD (3), HY_FORCE_DENSE, HY_FORCE_SPARSE,
  *   HY_DENSE_MAX (24), HY_PIVTOL (1e-8), HY_HAS_JAC, HY_SAFE (0.9), HY_GROW (6).
  *
  * Return codes of hy_simulate: 0 ok; 1 step size underflow; 2 max_steps exceeded;
@@ -108,50 +129,111 @@
 #define HY_SAFE 0.9
 #endif
 
-/* ---- RODAS4 coefficients (Hairer & Wanner, RODAS METH=1) ---- */
+/* ---- method coefficients ----
+   HY_METHOD selects the coefficient set (all in the transformed-variable RODAS form
+   described at the top; R_A[i][j] for stages i < R_NA, stages i >= R_NA use
+   y_i = y_(i-1) + k_(i-1), the solution is y_(R_S-1) + k_(R_S-1), error = k_(R_S-1);
+   dense output x(t+s h) = (1-s) x + s (x_new + (1-s) (K_0 + s (K_1 + s K_2 ...))),
+   K_r = sum_j R_H[r][j] k_j).  The tables were transcribed once from the published
+   coefficient sets and are checked by the convergence-order tests in
+   tests/solve/test_integrator.py. */
+#ifndef HY_METHOD
+#define HY_METHOD 3   /* default chosen by measurement on the EHA benchmark, see top */
+#endif
+#if HY_METHOD == 1
+/* RODAS4 (Hairer & Wanner, RODAS METH=1); dense output order 3 */
+#define R_NAME "rodas4"
+#define R_S 6            /* stages */
+#define R_NA 5           /* stages 0..R_NA-1 use explicit a_ij; later ones y += k_(i-1) */
+#define R_NH 2           /* dense-output polynomial terms */
+#define R_Q 4            /* error estimate ~ h^R_Q (controller exponent 1/R_Q) */
 #define R_GAM 0.25
-#define R_C2 0.386
-#define R_C3 0.21
-#define R_C4 0.63
-#define R_D1 0.25
-#define R_D2 (-0.1043)
-#define R_D3 0.1035
-#define R_D4 (-0.3620000000000023e-01)
-#define R_A21 1.544
-#define R_A31 0.9466785280815826
-#define R_A32 0.2557011698983284
-#define R_A41 3.314825187068521
-#define R_A42 2.896124015972201
-#define R_A43 0.9986419139977817
-#define R_A51 1.221224509226641
-#define R_A52 6.019134481288629
-#define R_A53 12.53708332932087
-#define R_A54 (-0.6878860361058950)
-#define R_C21 (-5.6688)
-#define R_C31 (-2.430093356833875)
-#define R_C32 (-0.2063599157091915)
-#define R_C41 (-0.1073529058151375)
-#define R_C42 (-9.594562251023355)
-#define R_C43 (-20.47028614809616)
-#define R_C51 7.496443313967647
-#define R_C52 (-10.24680431464352)
-#define R_C53 (-33.99990352819905)
-#define R_C54 11.70890893206160
-#define R_C61 8.083246795921522
-#define R_C62 (-7.981132988064893)
-#define R_C63 (-31.52159432874371)
-#define R_C64 16.31930543123136
-#define R_C65 (-6.058818238834054)
-#define R_D21 10.12623508344586
-#define R_D22 (-7.487995877610167)
-#define R_D23 (-34.80091861555747)
-#define R_D24 (-7.992771707568823)
-#define R_D25 1.025137723295662
-#define R_D31 (-0.6762803392801253)
-#define R_D32 6.087714651680015
-#define R_D33 16.43084320892478
-#define R_D34 24.76722511418386
-#define R_D35 (-6.594389125716872)
+static const double R_A[5][5] = {
+    {0.0, 0.0, 0.0, 0.0, 0.0},
+    {1.544, 0.0, 0.0, 0.0, 0.0},
+    {0.9466785280815826, 0.2557011698983284, 0.0, 0.0, 0.0},
+    {3.314825187068521, 2.896124015972201, 0.9986419139977817, 0.0, 0.0},
+    {1.221224509226641, 6.019134481288629, 12.53708332932087, (-0.687886036105895), 0.0}
+};
+static const double R_C[6][5] = {
+    {0.0, 0.0, 0.0, 0.0, 0.0},
+    {(-5.6688), 0.0, 0.0, 0.0, 0.0},
+    {(-2.430093356833875), (-0.2063599157091915), 0.0, 0.0, 0.0},
+    {(-0.1073529058151375), (-9.594562251023355), (-20.47028614809616), 0.0, 0.0},
+    {7.496443313967647, (-10.24680431464352), (-33.99990352819905), 11.7089089320616, 0.0},
+    {8.083246795921522, (-7.981132988064893), (-31.52159432874371), 16.31930543123136, (-6.058818238834054)}
+};
+static const double R_CT[R_S] = {0.0, 0.386, 0.21, 0.63, 1.0, 1.0};
+static const double R_DT[R_S] = {0.25, (-0.1043), 0.1035, (-0.03620000000000023), 0.0, 0.0};
+static const double R_H[2][6] = {
+    {10.12623508344586, (-7.487995877610167), (-34.80091861555747), (-7.992771707568823), 1.025137723295662, 0.0},
+    {(-0.6762803392801253), 6.087714651680015, 16.43084320892478, 24.76722511418386, (-6.594389125716872), 0.0}
+};
+#elif HY_METHOD == 2
+/* RODAS4P (Steinebach 1995; order 4(3), no order reduction on Prothero-Robinson / linear parabolic problems, stage order 3 for the stiff component); dense output order 3 */
+#define R_NAME "rodas4p"
+#define R_S 6            /* stages */
+#define R_NA 5           /* stages 0..R_NA-1 use explicit a_ij; later ones y += k_(i-1) */
+#define R_NH 2           /* dense-output polynomial terms */
+#define R_Q 4            /* error estimate ~ h^R_Q (controller exponent 1/R_Q) */
+#define R_GAM 0.25
+static const double R_A[5][5] = {
+    {0.0, 0.0, 0.0, 0.0, 0.0},
+    {3.0, 0.0, 0.0, 0.0, 0.0},
+    {1.831036793486759, 0.4955183967433795, 0.0, 0.0, 0.0},
+    {2.304376582692669, (-0.05249275245743001), (-1.176798761832782), 0.0, 0.0},
+    {(-7.170454962423024), (-4.741636671481785), (-16.31002631330971), (-1.062004044111401), 0.0}
+};
+static const double R_C[6][5] = {
+    {0.0, 0.0, 0.0, 0.0, 0.0},
+    {(-12.0), 0.0, 0.0, 0.0, 0.0},
+    {(-8.791795173947035), (-2.207865586973518), 0.0, 0.0, 0.0},
+    {10.81793056857153, 6.780270611428266, 19.5348594464241, 0.0, 0.0},
+    {34.19095006749676, 15.49671153725963, 54.7476087596413, 14.16005392148534, 0.0},
+    {34.62605830930532, 15.30084976114473, 56.99955578662667, 18.40807009793095, (-5.714285714285717)}
+};
+static const double R_CT[R_S] = {0.0, 0.75, 0.21, 0.63, 1.0, 1.0};
+static const double R_DT[R_S] = {0.25, (-0.5), (-0.023504), (-0.0362), 0.0, 0.0};
+static const double R_H[2][6] = {
+    {25.09876703708589, 11.62013104361867, 28.49148307714626, (-5.664021568594133), 0.0, 0.0},
+    {1.638054557396973, (-0.7373619806678748), 8.47791821923899, 15.9925314877952, (-1.882352941176471), 0.0}
+};
+#elif HY_METHOD == 3
+/* RODAS5P (Steinebach 2023, "Improvement of Rosenbrock-Wanner method RODASP"; 8 stages, order 5(4)); dense output order 4 */
+#define R_NAME "rodas5p"
+#define R_S 8            /* stages */
+#define R_NA 6           /* stages 0..R_NA-1 use explicit a_ij; later ones y += k_(i-1) */
+#define R_NH 3           /* dense-output polynomial terms */
+#define R_Q 5            /* error estimate ~ h^R_Q (controller exponent 1/R_Q) */
+#define R_GAM 0.21193756319429014
+static const double R_A[6][7] = {
+    {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+    {3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+    {2.849394379747939, 0.45842242204463923, 0.0, 0.0, 0.0, 0.0, 0.0},
+    {(-6.954028509809101), 2.489845061869568, (-10.358996098473584), 0.0, 0.0, 0.0, 0.0},
+    {2.8029986275628964, 0.5072464736228206, (-0.3988312541770524), (-0.04721187230404641), 0.0, 0.0, 0.0},
+    {(-7.502846399306121), 2.561846144803919, (-11.627539656261098), (-0.18268767659942256), 0.030198172008377946, 0.0, 0.0}
+};
+static const double R_C[8][7] = {
+    {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+    {(-14.155112264123755), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+    {(-17.97296035885952), (-2.859693295451294), 0.0, 0.0, 0.0, 0.0, 0.0},
+    {147.12150275711716, (-1.41221402718213), 71.68940251302358, 0.0, 0.0, 0.0, 0.0},
+    {165.43517024871676, (-0.4592823456491126), 42.90938336958603, (-5.961986721573306), 0.0, 0.0, 0.0},
+    {24.854864614690072, (-3.0009227002832186), 47.4931110020768, 5.5814197821558125, (-0.6610691825249471), 0.0, 0.0},
+    {30.91273214028599, (-3.1208243349937974), 77.79954646070892, 34.28646028294783, (-19.097331116725623), (-28.087943162872662), 0.0},
+    {37.80277123390563, (-3.2571969029072276), 112.26918849496327, 66.9347231244047, (-40.06618937091002), (-54.66780262877968), (-9.48861652309627)}
+};
+static const double R_CT[R_S] = {0.0, 0.6358126895828704, 0.4095798393397535, 0.9769306725060716, 0.4288403609558664, 1.0, 1.0, 1.0};
+static const double R_DT[R_S] = {0.21193756319429014, (-0.42387512638858027), (-0.3384627126235924), 1.8046452872882734, 2.325825639765069, 0.0, 0.0, 0.0};
+static const double R_H[3][8] = {
+    {25.948786856663858, (-2.5579724845846235), 10.433815404888879, (-2.3679251022685204), 0.524948541321073, 1.1241088310450404, 0.4272876194431874, (-0.17202221070155493)},
+    {(-9.91568850695171), (-0.9689944594115154), 3.0438037242978453, (-24.495224566215796), 20.176138334709044, 15.98066361424651, (-6.789040303419874), (-6.710236069923372)},
+    {11.419903575922262, 2.8879645146136994, 72.92137995996029, 80.12511834622643, (-52.072871366152654), (-59.78993625266729), (-0.15582684282751913), 4.883087185713722}
+};
+#else
+#error "HY_METHOD must be 1 (Rodas4), 2 (Rodas4P) or 3 (Rodas5P)"
+#endif
 
 typedef struct {
     /* problem data */
@@ -644,7 +726,7 @@ int hy_simulate(
     const int n = HY_NX;
     hy_ws W;
     double *blk = NULL;
-    double *x, *xn, *f0, *fn, *fs, *y, *k1, *k2, *k3, *k4, *k5, *k6, *sk;
+    double *x, *xn, *f0, *fn, *fs, *y, *K, *kl, *dk, *sk;
     long nacc = 0, nrej = 0, njac = 0, nlu = 0;
     int ret = 0, iout = 0, i, st;
     int first = 1, reject = 0, jac_ok = 0, worst = -1;
@@ -670,7 +752,7 @@ int hy_simulate(
 #endif
 
     /* ---- allocation (once per call) ---- */
-    blk = (double *)malloc(sizeof(double) * ((size_t)17 * n + (HY_NNZ > 0 ? HY_NNZ : 1)));
+    blk = (double *)malloc(sizeof(double) * ((size_t)(11 + R_S + R_NH) * n + (HY_NNZ > 0 ? HY_NNZ : 1)));
     W.rptr = (int *)malloc(sizeof(int) * (size_t)(n + 1));
     W.cptr = (int *)malloc(sizeof(int) * (size_t)(n + 1));
     W.ridx = (int *)malloc(sizeof(int) * (size_t)(HY_NNZ > 0 ? HY_NNZ : 1));
@@ -679,9 +761,11 @@ int hy_simulate(
     W.gcol = (int *)malloc(sizeof(int) * (size_t)n);
     if (!blk || !W.rptr || !W.cptr || !W.ridx || !W.cidx || !W.gptr || !W.gcol) { ret = -1; goto finish; }
     x = blk; xn = x + n; f0 = xn + n; fn = f0 + n; fs = fn + n; y = fs + n;
-    k1 = y + n; k2 = k1 + n; k3 = k2 + n; k4 = k3 + n; k5 = k4 + n; k6 = k5 + n;
-    sk = k6 + n; W.fdt = sk + n; W.xp = W.fdt + n; W.fp = W.xp + n;
-    W.jv = W.fp + n;  /* 16 n used + jv; one spare n */
+    K = y + n;                      /* R_S stage vectors k_0 .. k_(R_S-1) */
+    kl = K + (size_t)(R_S - 1) * n; /* last stage = error estimate */
+    dk = K + (size_t)R_S * n;       /* R_NH dense-output coefficient vectors */
+    sk = dk + (size_t)R_NH * n; W.fdt = sk + n; W.xp = W.fdt + n; W.fp = W.xp + n;
+    W.jv = W.fp + n + n;  /* (10 + R_S + R_NH) n used + jv; one spare n */
     if (hy_setup_pattern(&W)) { ret = -1; goto finish; }
 #if defined(HY_FORCE_DENSE)
     W.sparse = 0;
@@ -775,59 +859,51 @@ int hy_simulate(
         }
         ih = 1.0 / hstep;
 
-        /* stage 1 */
-        for (i = 0; i < HY_NX; ++i) k1[i] = f0[i] + hstep * R_D1 * W.fdt[i];
-        hy_solve(&W, k1);
-        /* stage 2 */
-        for (i = 0; i < HY_NX; ++i) y[i] = x[i] + R_A21 * k1[i];
-        st = hy_f(&W, t + R_C2 * hstep, y, kcap, fs);
-        if (st) { fail = 100 + st; goto stage_fail; }
-        if ((worst = hy_bad_stage(fs)) >= 0) { fail = 3; goto stage_fail; }
-        for (i = 0; i < HY_NX; ++i) k2[i] = fs[i] + hstep * R_D2 * W.fdt[i] + ih * (R_C21 * k1[i]);
-        hy_solve(&W, k2);
-        /* stage 3 */
-        for (i = 0; i < HY_NX; ++i) y[i] = x[i] + R_A31 * k1[i] + R_A32 * k2[i];
-        st = hy_f(&W, t + R_C3 * hstep, y, kcap, fs);
-        if (st) { fail = 100 + st; goto stage_fail; }
-        if ((worst = hy_bad_stage(fs)) >= 0) { fail = 3; goto stage_fail; }
-        for (i = 0; i < HY_NX; ++i)
-            k3[i] = fs[i] + hstep * R_D3 * W.fdt[i] + ih * (R_C31 * k1[i] + R_C32 * k2[i]);
-        hy_solve(&W, k3);
-        /* stage 4 */
-        for (i = 0; i < HY_NX; ++i) y[i] = x[i] + R_A41 * k1[i] + R_A42 * k2[i] + R_A43 * k3[i];
-        st = hy_f(&W, t + R_C4 * hstep, y, kcap, fs);
-        if (st) { fail = 100 + st; goto stage_fail; }
-        if ((worst = hy_bad_stage(fs)) >= 0) { fail = 3; goto stage_fail; }
-        for (i = 0; i < HY_NX; ++i)
-            k4[i] = fs[i] + hstep * R_D4 * W.fdt[i]
-                  + ih * (R_C41 * k1[i] + R_C42 * k2[i] + R_C43 * k3[i]);
-        hy_solve(&W, k4);
-        /* stage 5 */
-        for (i = 0; i < HY_NX; ++i)
-            y[i] = x[i] + R_A51 * k1[i] + R_A52 * k2[i] + R_A53 * k3[i] + R_A54 * k4[i];
-        st = hy_f(&W, t + hstep, y, kcap, fs);
-        if (st) { fail = 100 + st; goto stage_fail; }
-        if ((worst = hy_bad_stage(fs)) >= 0) { fail = 3; goto stage_fail; }
-        for (i = 0; i < HY_NX; ++i)
-            k5[i] = fs[i] + ih * (R_C51 * k1[i] + R_C52 * k2[i] + R_C53 * k3[i] + R_C54 * k4[i]);
-        hy_solve(&W, k5);
-        /* stage 6 (embedded solution y = x5 + k5) */
-        for (i = 0; i < HY_NX; ++i) y[i] += k5[i];
-        st = hy_f(&W, t + hstep, y, kcap, fs);
-        if (st) { fail = 100 + st; goto stage_fail; }
-        if ((worst = hy_bad_stage(fs)) >= 0) { fail = 3; goto stage_fail; }
-        for (i = 0; i < HY_NX; ++i)
-            k6[i] = fs[i] + ih * (R_C61 * k1[i] + R_C62 * k2[i] + R_C63 * k3[i]
-                                  + R_C64 * k4[i] + R_C65 * k5[i]);
-        hy_solve(&W, k6);
-        for (i = 0; i < HY_NX; ++i) xn[i] = y[i] + k6[i];
+        /* stages: (I/(h gam) - J) k_i = f(t + c_i h, y_i) + h d_i f_t + sum_j (c_ij/h) k_j */
+        {
+            int is, j;
+            for (is = 0; is < R_S; ++is) {
+                double *ki = K + (size_t)is * n;
+                const double hd = hstep * R_DT[is];
+                if (is == 0) {
+                    for (i = 0; i < HY_NX; ++i) ki[i] = f0[i] + hd * W.fdt[i];
+                } else {
+                    if (is < R_NA) {
+                        for (i = 0; i < HY_NX; ++i) y[i] = x[i] + R_A[is][0] * K[i];
+                        for (j = 1; j < is; ++j) {
+                            const double a = R_A[is][j];
+                            const double *kj = K + (size_t)j * n;
+                            for (i = 0; i < HY_NX; ++i) y[i] += a * kj[i];
+                        }
+                    } else {
+                        /* stiffly accurate tail: y_i = y_(i-1) + k_(i-1) (y still holds y_(i-1)) */
+                        const double *kp = ki - n;
+                        for (i = 0; i < HY_NX; ++i) y[i] += kp[i];
+                    }
+                    st = hy_f(&W, t + R_CT[is] * hstep, y, kcap, fs);
+                    if (st) { fail = 100 + st; goto stage_fail; }
+                    if ((worst = hy_bad_stage(fs)) >= 0) { fail = 3; goto stage_fail; }
+                    if (hd != 0.0)
+                        for (i = 0; i < HY_NX; ++i) ki[i] = fs[i] + hd * W.fdt[i];
+                    else
+                        for (i = 0; i < HY_NX; ++i) ki[i] = fs[i];
+                    for (j = 0; j < is; ++j) {
+                        const double cc = ih * R_C[is][j];
+                        const double *kj = K + (size_t)j * n;
+                        for (i = 0; i < HY_NX; ++i) ki[i] += cc * kj[i];
+                    }
+                }
+                hy_solve(&W, ki);
+            }
+            for (i = 0; i < HY_NX; ++i) xn[i] = y[i] + kl[i];
+        }
 
         /* error estimate */
         {
             double s = 0.0, qmax = -1.0;
             for (i = 0; i < HY_NX; ++i) {
                 const double ax = fabs(x[i]), an = fabs(xn[i]);
-                const double q = k6[i] / (atol[i] + rtol * (ax > an ? ax : an));
+                const double q = kl[i] / (atol[i] + rtol * (ax > an ? ax : an));
                 s += q * q;
                 if (fabs(q) > qmax) { qmax = fabs(q); worst = i; }
             }
@@ -836,7 +912,7 @@ int hy_simulate(
         if (!isfinite(err)) {
             fail = 3;
             worst = hy_first_nonfinite(xn, n);
-            if (worst < 0) worst = hy_first_nonfinite(k6, n);
+            if (worst < 0) worst = hy_first_nonfinite(kl, n);
             goto stage_fail;
         }
 
@@ -847,10 +923,16 @@ int hy_simulate(
             if ((i = hy_first_nonfinite(fn, n)) >= 0) { fail = 3; worst = i; goto stage_fail; }
             /* dense output for t_out in (t, tnext] */
             if (iout < n_out && t_out[iout] <= tnext) {
-                double *c3 = fs, *c4 = y;   /* free now */
-                for (i = 0; i < HY_NX; ++i) {
-                    c3[i] = R_D21 * k1[i] + R_D22 * k2[i] + R_D23 * k3[i] + R_D24 * k4[i] + R_D25 * k5[i];
-                    c4[i] = R_D31 * k1[i] + R_D32 * k2[i] + R_D33 * k3[i] + R_D34 * k4[i] + R_D35 * k5[i];
+                int r, j;
+                for (r = 0; r < R_NH; ++r) {
+                    double *dr = dk + (size_t)r * n;
+                    for (i = 0; i < HY_NX; ++i) dr[i] = R_H[r][0] * K[i];
+                    for (j = 1; j < R_S; ++j) {
+                        const double hh = R_H[r][j];
+                        const double *kj = K + (size_t)j * n;
+                        if (hh != 0.0)
+                            for (i = 0; i < HY_NX; ++i) dr[i] += hh * kj[i];
+                    }
                 }
                 while (iout < n_out && t_out[iout] <= tnext) {
                     const double to = t_out[iout];
@@ -860,9 +942,12 @@ int hy_simulate(
                         double s = (to - t) / (tnext - t), s1;
                         if (s < 0.0) s = 0.0;
                         s1 = 1.0 - s;
-                        for (i = 0; i < HY_NX; ++i)
-                            k6[i] = x[i] * s1 + s * (xn[i] + s1 * (c3[i] + s * c4[i]));
-                        st = hy_emit(&W, iout, to, k6, X_out, Y_out);
+                        for (i = 0; i < HY_NX; ++i) {
+                            double v = dk[(size_t)(R_NH - 1) * n + i];
+                            for (r = R_NH - 2; r >= 0; --r) v = dk[(size_t)r * n + i] + s * v;
+                            fs[i] = x[i] * s1 + s * (xn[i] + s1 * v);
+                        }
+                        st = hy_emit(&W, iout, to, fs, X_out, Y_out);
                     }
                     if (st) { ret = 100 + st; break; }
                     ++iout;
@@ -870,11 +955,11 @@ int hy_simulate(
                 if (ret) break;
             }
             /* step size controller (Gustafsson, as in RODAS) */
-            fac = pow(err, 0.25) / HY_SAFE;
+            fac = pow(err, 1.0 / R_Q) / HY_SAFE;
             if (fac > 5.0) fac = 5.0;
             if (fac < 1.0 / HY_GROW) fac = 1.0 / HY_GROW;
             if (!first) {
-                double facg = (hacc / hstep) * pow(err * err / erracc, 0.25) / HY_SAFE;
+                double facg = (hacc / hstep) * pow(err * err / erracc, 1.0 / R_Q) / HY_SAFE;
                 if (facg > 5.0) facg = 5.0;
                 if (facg < 1.0 / HY_GROW) facg = 1.0 / HY_GROW;
                 if (facg > fac) fac = facg;
@@ -893,7 +978,7 @@ int hy_simulate(
             worst = -1;
             if (iout >= n_out) break;
         } else {
-            double fac = pow(err, 0.25) / HY_SAFE;
+            double fac = pow(err, 1.0 / R_Q) / HY_SAFE;
             if (fac > 5.0) fac = 5.0;
             if (fac < 1.0 / HY_GROW) fac = 1.0 / HY_GROW;
             nrej++;
