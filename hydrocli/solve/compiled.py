@@ -13,6 +13,7 @@ from __future__ import annotations
 import ctypes
 import functools
 import hashlib
+import re
 import os
 import shutil
 import subprocess
@@ -71,8 +72,15 @@ def default_cache_dir() -> Path:
     return Path.home() / ".cache" / "hydrocli" / "models"
 
 
+_LOCAL_INCLUDE = re.compile(r'^#include "(hy_\w+\.h)"\s*$', re.MULTILINE)
+
+
 def integrator_source() -> str:
-    return _INTEGRATOR.read_text(encoding="utf-8")
+    """The integrator as one self-contained text: its local headers (method tables,
+    linear algebra) are inlined, so the cached .c compiles without include paths and the
+    cache key covers every file of the integrator."""
+    text = _INTEGRATOR.read_text(encoding="utf-8")
+    return _LOCAL_INCLUDE.sub(lambda m: (_CSRC / m.group(1)).read_text(encoding="utf-8"), text)
 
 
 def _compiler() -> str:
