@@ -5,8 +5,11 @@ from rich.console import Console
 from rich.table import Table
 
 
-def console() -> Console:
-    return Console(highlight=False, soft_wrap=False)
+def console(stderr: bool = False) -> Console:
+    """A console at least 120 columns wide: tables of parameters stay readable when the
+    output goes to a file or a pipe (rich would assume 80 columns there)."""
+    width = max(Console(stderr=stderr).width, 120)
+    return Console(highlight=False, soft_wrap=False, width=width, stderr=stderr)
 
 
 def table(title: str, *columns: str) -> Table:

@@ -102,11 +102,11 @@ def _unique(path: Path, taken: list[Path]) -> Path:
 
 
 def _print(verdict) -> None:
-    from rich.console import Console
+    from . import tables
     from rich.table import Table
     from ..report.ci import fmt, summary
 
-    console = Console(width=max(Console().width, 100))
+    console = tables.console()
     table = Table(title=f"Validation of {verdict.machine}", title_justify="left")
     for col, just in (("Experiment", "left"), ("Output", "left"), ("ESR %", "right"), ("NRMSE %", "right"),
                       ("Fit %", "right"), ("Max ESR %", "right"), ("Result", "center")):

@@ -24,9 +24,9 @@ class _Progress:
 @contextmanager
 def progress_bar(total: int):
     """A rich progress bar on stderr (iteration, cost, best cost); quiet when not a terminal."""
-    from rich.console import Console
+    from ..cli import tables
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-    console = Console(stderr=True)
+    console = tables.console(stderr=True)
     with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[info]}"),
                   TimeElapsedColumn(), console=console, transient=False, disable=not console.is_terminal) as prog:
         task = prog.add_task("identify", total=total, info="")
