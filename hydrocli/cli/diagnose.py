@@ -1,0 +1,40 @@
+"""``hydro diagnose MACHINE --train E1 [--train E2 …] --validate V1 … --out DIR``."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("diagnose")
+    def diagnose_cmd(
+        machine: Path = typer.Argument(..., help="machine YAML file"),
+        train: list[Path] = typer.Option(..., "--train", help="training experiment (YAML or recording), repeatable"),
+        validate: list[Path] = typer.Option(..., "--validate", help="held-out experiment, repeatable"),
+        out: Path = typer.Option(Path("diagnosis"), "--out", "-o", help="directory for diagnosis.json, "
+                                 "augmented.yaml and report.pdf"),
+        max_effects: int = typer.Option(3, "--max-effects", min=0, help="effects to add at most"),
+        jobs: int = typer.Option(2, "--jobs", "-j", min=1, help="worker processes for candidate fits"),
+        top: int = typer.Option(3, "--top", min=1, help="candidates re-identified per round"),
+        no_pdf: bool = typer.Option(False, "--no-pdf", help="skip the PDF report"),
+    ) -> None:
+        """Locate the model/recording mismatch, name the missing physics, add it, show the fit improve."""
+        from .main import run_guarded
+        run_guarded(_run, machine, train, validate, out, max_effects, jobs, top, no_pdf)
+
+
+def _run(machine, train, validate, out, max_effects, jobs, top, no_pdf) -> None:
+    from ..diagnose import Settings, diagnose
+    from ..diagnose.summary import console_summary, write_augmented, write_json
+
+    diag = diagnose(machine, train, validate, Settings(max_effects=max_effects, jobs=jobs, top=top),
+                    progress=lambda m: typer.echo(m, err=True))
+    out.mkdir(parents=True, exist_ok=True)
+    write_json(diag, out / "diagnosis.json")
+    write_augmented(diag, out / "augmented.yaml")
+    if not no_pdf:
+        from ..diagnose.report_pages import write_report
+        write_report(diag, out / "report.pdf")
+    typer.echo(console_summary(diag))
+    typer.echo(f"→ {out}/diagnosis.json, {out}/augmented.yaml" + ("" if no_pdf else f", {out}/report.pdf"))

@@ -1,0 +1,38 @@
+"""Pressure-dependent seal friction as a separate element: the seals are pressed against the
+rod and bore by the chamber pressures, so the friction force grows with them
+(seed 000 eq. 23; Ottestad, Nilsen & Hansen 2012, "Reducing the static friction of hydraulic
+cylinders by maintaining relative velocity"): F = A_p·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b|)·tanh(v/ε).
+μ_s models seals loaded by both chambers (rod seals, symmetric), μ_d a piston seal loaded by
+the pressure difference across it."""
+from __future__ import annotations
+
+from ...model import expr as E
+from ..base import Component, H, Param, Port, T, VariableSpec
+from ..dynamics import tanh_sign
+from ..registry import register
+
+
+@register
+class SealFriction(Component):
+    type = "seal_friction"
+    family = "effects"
+    description = "Seal friction proportional to chamber pressures (sum and |difference|)"
+    source = "seed 000 eq. 23"
+    ports = (Port("a", T, "moving side (rod)"), Port("b", T, "fixed side"),
+             Port("pa", H, "chamber A (sensed)"), Port("pb", H, "chamber B (sensed)"))
+    parameters = (
+        Param("mu_s", "1", 0.0, "friction per unit of A_p·(p_a + p_b)", min=0.0, bounds=(0.0, 0.2)),
+        Param("mu_d", "1", 0.0, "friction per unit of A_p·|p_a − p_b|", min=0.0, bounds=(0.0, 1.0)),
+        Param("A_p", "m^2", 1e-3, "reference area (the piston area)", positive=True),
+        Param("eps", "m/s", 1e-3, "tanh smoothing velocity", positive=True),
+        Param("dp_eps", "Pa", 1e4, "smoothing of |p_a − p_b| near zero", positive=True),
+    )
+    variables = (VariableSpec("F", "N", "friction force opposing a relative to b"),)
+
+    def equations(self, c):
+        p = c.p
+        pa, pb = c.across("pa"), c.across("pb")
+        load = p.mu_s * (pa + pb) + p.mu_d * E.smooth_abs(pa - pb, p.dp_eps)
+        f = c.let("F", p.A_p * load * tanh_sign(c.across("a") - c.across("b"), p.eps))
+        c.through("a", f)
+        c.through("b", -f)

@@ -1,0 +1,53 @@
+"""Sensors with a first-order lag: the measured value follows the physical one through
+1/(1 + τs). A pressure transducer's membrane and amplifier, or a position/velocity
+encoder's filter, behave so (ISO 16028-style dynamic pressure calibration; Jelali & Kroll,
+*Hydraulic Servo-systems*, §6.5, sensor dynamics). Outputs then read ``<sensor>.y``."""
+from __future__ import annotations
+
+from ..base import Component, H, Param, Port, StateSpec, T, VariableSpec
+from ..dynamics import first_order
+from ..registry import register
+
+_TAU = Param("tau", "s", 1e-3, "sensor time constant", positive=True, bounds=(1e-5, 0.1))
+
+
+@register
+class PressureSensor(Component):
+    """Pressure transducer with lag: τ·dy/dt = p − y (draws no flow)."""
+
+    type = "pressure_sensor"
+    family = "effects"
+    description = "Pressure transducer with a first-order lag (measured value y)"
+    source = "first-order sensor model, Jelali & Kroll §6.5"
+    ports = (Port("P", H, "sensed node"),)
+    parameters = (_TAU,)
+    states = (StateSpec("y", "Pa", "measured pressure", nominal=1e5),)
+    variables = (VariableSpec("p", "Pa", "measured pressure (alias of the state)"),)
+
+    def equations(self, c):
+        y = c.state("y")
+        c.der("y", first_order(y, c.across("P"), c.p.tau))
+        c.let("p", y)
+
+
+@register
+class MotionSensor(Component):
+    """Position and velocity sensor with lag on a translational node: measured x_m, v_m
+    follow the node's position and velocity through 1/(1 + τs)."""
+
+    type = "motion_sensor"
+    family = "effects"
+    description = "Position/velocity sensor with a first-order lag (measured x, v)"
+    source = "first-order sensor model, Jelali & Kroll §6.5"
+    ports = (Port("a", T, "sensed node"),)
+    parameters = (_TAU,)
+    states = (StateSpec("xm", "m", "measured position", nominal=1e-3),
+              StateSpec("vm", "m/s", "measured velocity", nominal=1e-2))
+    variables = (VariableSpec("x", "m", "measured position"), VariableSpec("v", "m/s", "measured velocity"))
+
+    def equations(self, c):
+        xm, vm = c.state("xm"), c.state("vm")
+        c.der("xm", first_order(xm, c.position("a"), c.p.tau))
+        c.der("vm", first_order(vm, c.across("a"), c.p.tau))
+        c.let("x", xm)
+        c.let("v", vm)

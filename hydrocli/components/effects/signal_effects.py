@@ -1,0 +1,63 @@
+"""Signal-path effects: a transport delay as a second-order Padé block, and valve play
+(backlash / hysteresis) as a smooth play operator.
+
+Padé (2,2): e^{−sT} ≈ (1 − sT/2 + (sT)²/12)/(1 + sT/2 + (sT)²/12) (Franklin, Powell &
+Emami-Naeini, *Feedback Control*, §5.6.3), realised in controllable canonical form.
+Play operator (Krasnosel'skii–Pokrovskii; Tao & Kokotović, *Adaptive Control of Systems with
+Actuator and Sensor Nonlinearities*, ch. 2): the output stays while |u − y| ≤ b and
+follows u at rate (|u − y| − b)/τ outside the band; smoothed so the stiff solver sees a
+smooth right-hand side.
+"""
+from __future__ import annotations
+
+from ...model import expr as E
+from ..base import Component, Param, Port, S, StateSpec
+from ..registry import register
+
+_IN = Port("in", S, "input signal", direction="in")
+_OUT = Port("out", S, "output signal", direction="out")
+
+
+@register
+class PadeDelay(Component):
+    """Transport delay e^{−sT} as a second-order Padé approximant (good to ω·T ≈ 2)."""
+
+    type = "pade_delay"
+    family = "effects"
+    description = "Transport/input delay T, second-order Padé approximation"
+    source = "Franklin, Powell & Emami-Naeini §5.6.3 (Padé approximant)"
+    ports = (_IN, _OUT)
+    parameters = (Param("T", "s", 2e-3, "delay", positive=True, bounds=(2e-4, 0.1)),)
+    states = (StateSpec("z1", "1", "Padé state 1", nominal=1e-3), StateSpec("z2", "1", "Padé state 2", nominal=1.0))
+
+    def equations(self, c):
+        # H(s) = (s² − a1 s + a0)/(s² + a1 s + a0), a1 = 6/T, a0 = 12/T²
+        # = 1 − 2 a1 s/(s² + a1 s + a0): y = u − 2 a1 z2, z1' = z2, z2' = u − a0 z1 − a1 z2
+        u = c.signal("in")
+        a1 = 6.0 / c.p.T
+        a0 = 12.0 / (c.p.T * c.p.T)
+        z1, z2 = c.state("z1"), c.state("z2")
+        c.der("z1", z2)
+        c.der("z2", u - a0 * z1 - a1 * z2)
+        c.drive("out", u - 2.0 * a1 * z2)
+
+
+@register
+class Play(Component):
+    """Smooth play (backlash) of half-width b: y' = [s⁺(u − y − b) − s⁺(y − u − b)]/τ,
+    s⁺ the smooth positive part; b = 0 is a first-order lag τ (keep τ ≪ the dynamics)."""
+
+    type = "play"
+    family = "effects"
+    description = "Backlash/play of half-width b (valve hysteresis, linkage play)"
+    source = "play operator, Tao & Kokotović ch. 2"
+    ports = (_IN, _OUT)
+    parameters = (Param("b", "1", 0.0, "half-width of the play band (input units)", min=0.0, bounds=(0.0, 0.1)),
+                  Param("tau", "s", 2e-4, "tracking lag outside the band", positive=True),
+                  Param("eps", "1", 1e-4, "smoothing of the band edges", positive=True))
+    states = (StateSpec("y", "1", "output", nominal=1e-2),)
+
+    def equations(self, c):
+        u, y, p = c.signal("in"), c.state("y"), c.p
+        c.der("y", (E.smooth_pos(u - y - p.b, p.eps) - E.smooth_pos(y - u - p.b, p.eps)) / p.tau)
+        c.drive("out", y)

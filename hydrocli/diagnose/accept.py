@@ -1,0 +1,53 @@
+"""Step 6: accept an effect only when all of these hold (one effect at a time):
+
+1. BIC improves: ΔBIC = n_eff·ln(SSR₁/SSR₀) + Δk·ln n_eff < 0, with n_eff the effective
+   number of independent residual samples (``stats.effective_n`` summed over series);
+2. held-out validation ESR improves beyond the noise band: the summed validation ESR falls
+   by more than the measurement-noise floor (``stats.noise_esr``) AND by at least
+   ``MIN_REL`` of the base model's validation error above that floor (``MIN_REL_LATER`` for a
+   second or third effect);
+3. every new parameter is plausible (inside its plausibility range, not at a bound) and
+   well determined (inflated standard error < ``MAX_REL_SE`` of the value).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import stats
+
+MIN_REL = 0.15
+MIN_REL_LATER = 0.3   # a second or third effect must remove more of what is left: once the main
+                      # effect is in, small form mismatches of it are what remains, and other
+                      # candidates would happily absorb them
+MAX_REL_SE = 0.5
+
+
+def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: float, noise: float,
+          later: bool = False) -> dict:
+    k = len(cand.params)
+    dbic = stats.delta_bic(ssr0, fitres["cost"], n_eff, k)
+    gain = val0 - val1
+    need = max(noise, (MIN_REL_LATER if later else MIN_REL) * max(val0 - noise, 0.0))
+    reasons = []
+    if not dbic < 0:
+        reasons.append(f"BIC does not improve (ΔBIC = {dbic:+.1f})")
+    if not gain > need:
+        reasons.append(f"validation ESR gain {gain:.3g} % is within the noise band ({need:.3g} %)")
+    est = dict(zip(fitres["names"], fitres["estimates"]))
+    se = dict(zip(fitres["names"], fitres["stderr"]))
+    plausible_any = False
+    for p in cand.params:
+        v, s = est[p.name], se[p.name]
+        lo, hi = p.bounds
+        at_bound = abs(v - lo) < 1e-3 * (hi - lo) or abs(hi - v) < 1e-3 * (hi - lo)
+        inside = p.plausible[0] <= abs(v) <= p.plausible[1]
+        plausible_any |= inside and p.primary
+        if at_bound and inside:
+            reasons.append(f"{p.name} ended at a bound ({v:.3g})")
+        if inside and np.isfinite(s) and abs(v) > 0 and s / abs(v) > MAX_REL_SE:
+            reasons.append(f"{p.name} poorly determined (±{100 * s / abs(v):.0f} %)")
+    if not plausible_any:
+        vals = ", ".join(f"{p.name} = {est[p.name]:.3g}" for p in cand.params if p.primary)
+        reasons.append(f"no new parameter in its plausible range ({vals})")
+    return {"delta_bic": dbic, "validation_gain": gain, "noise_band": need, "passed": not reasons,
+            "reasons": reasons}

@@ -1,0 +1,114 @@
+"""The candidate catalogue's plug-in interface (pysindy-style: this base module plus one
+small module per family of effects).
+
+A :class:`Candidate` is a named netlist augmentation: the effect (a name from DESIGN.md's
+vocabulary), the component it attaches to, its new parameters (start value = effect off or
+negligible, identification bounds, plausibility range, a probe value for the screening
+signature) and ``build(net) -> net`` that returns the machine with the effect modelled and
+its parameters free. Families find where an effect can attach by component TYPE and graph
+connections, so the catalogue works for any machine of the library.
+
+The screening SIGNATURE of a candidate is computed by :mod:`hydrocli.diagnose.screen` from
+the augmented model itself: the secant sensitivity of the outputs (and of the balance
+equations) to the new parameters between ``start`` and ``probe`` — a Lagrange-multiplier
+(score) test of the effect (Rao 1948; Engle 1984, *Handbook of Econometrics* II ch. 13).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+from ...netlist.model import Netlist
+from .. import augment as A
+
+VOCABULARY = ("internal_leakage", "external_leakage", "viscous_friction", "coulomb_friction",
+              "stribeck_friction", "pressure_dependent_friction", "entrained_air", "line_dynamics",
+              "valve_overlap", "valve_hysteresis", "valve_asymmetry", "input_delay", "load_compliance",
+              "structural_flexibility", "payload_swing", "end_stop", "supply_pressure_drop", "sensor_lag")
+
+
+@dataclass(frozen=True)
+class NewParam:
+    name: str                              # model parameter name after augmentation
+    start: float                           # effect off (or negligible)
+    bounds: tuple[float, float]            # identification bounds (SI)
+    plausible: tuple[float, float]         # physically plausible |value| range for acceptance
+    probe: float                           # value of the screening secant
+    log: bool | None = None
+    primary: bool = True                   # False: a companion parameter (acceptance looks at primaries)
+
+
+@dataclass
+class Candidate:
+    effect: str
+    component: str
+    params: list[NewParam]
+    build: Callable[[Netlist], Netlist]    # machine (with fitted base values) → augmented machine
+    equation: str                          # balance it acts in: force | continuity | valve | signal | measurement
+    description: str
+    fixed: dict[str, float] = field(default_factory=dict)   # extra non-free values it sets
+    variant: str = ""                      # several physical forms of one effect on one component
+
+    @property
+    def key(self) -> str:
+        return f"{self.effect}@{self.component}" + (f"#{self.variant}" if self.variant else "")
+
+
+@dataclass
+class Skipped:
+    effect: str
+    reason: str
+
+
+@dataclass
+class Context:
+    """What families may look at: the machine, and position ranges seen in the data."""
+
+    net: Netlist
+    free: set[str]                                          # parameters free in the base model
+    position_range: dict[str, tuple[float, float]] = field(default_factory=dict)  # node → (min, max) m
+    outputs: dict[str, str] = field(default_factory=dict)   # output → quantity ("pressure", "position", …)
+
+    def of_type(self, *prefixes: str) -> list[str]:
+        return [n for n, c in self.net.components.items() if any(c.type.startswith(p) for p in prefixes)]
+
+    def on_node(self, node: str) -> list[tuple[str, str]]:
+        return self.net.nodes().get(node, [])
+
+    def value(self, name: str) -> float:
+        comp, _, p = name.rpartition(".")
+        return float(self.net.components[comp].params[p].value)
+
+
+class Family:
+    """A family of effects: ``candidates(ctx)`` and ``skipped(ctx)`` (effects it covers but
+    cannot attach anywhere in this machine, each with a reason)."""
+
+    effects: tuple[str, ...] = ()
+
+    def candidates(self, ctx: Context) -> list[Candidate]:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def parameter_candidate(self, ctx: Context, effect: str, comp: str, params: list[NewParam], equation: str,
+                            description: str, fixed: dict[str, float] | None = None,
+                            connect: dict[str, str] | None = None) -> Candidate | Skipped:
+        """An effect that is an existing parameter of the component: set it free from its
+        start value (and connect sensing ports); skipped when already free in the base."""
+        already = [p.name for p in params if p.name in ctx.free]
+        if already:
+            return Skipped(effect, f"{', '.join(already)} already free in the base model of '{comp}'")
+
+        def build(net, params=params, fixed=dict(fixed or {}), connect=dict(connect or {})):
+            for port, node in connect.items():
+                net = A.connect(net, comp, port, node)
+            if fixed:
+                net = A.set_values(net, fixed)
+            for p in params:
+                net = A.free(net, p.name, p.start, p.bounds, p.log)
+            return net
+        return Candidate(effect, comp, params, build, equation, description, dict(fixed or {}))
+
+
+def split(items) -> tuple[list[Candidate], list[Skipped]]:
+    cands = [c for c in items if isinstance(c, Candidate)]
+    return cands, [s for s in items if isinstance(s, Skipped)]

@@ -1,0 +1,78 @@
+"""Signal and measurement effects: a transport delay on each machine input (second-order
+Padé block), and sensor lags beyond a typical transducer (pressure sensors re-identified
+with wide bounds; position/velocity sensors with a first-order lag)."""
+from __future__ import annotations
+
+from .. import augment as A
+from ..measurement import PRESSURE_TAU_BOUNDS, sensor_components
+from .base import Candidate, Context, Family, NewParam, Skipped
+
+
+CLEARLY_SLOW = 5e-3  # s: a pressure-sensor lag reported as an effect must be well beyond a typical
+                     # transducer (≤ 1–2 ms); smaller lags stay in the measurement model
+MIN_DELAY = 2e-3   # s: shorter "delays" are sampling/interpolation artefacts of the recording
+                   # (a command held between samples but interpolated linearly looks ~half a sample late)
+
+
+class InputDelayFamily(Family):
+    effects = ("input_delay",)
+
+    def candidates(self, ctx: Context):
+        out = []
+        for name in ctx.net.inputs:
+            users = ctx.on_node(name)
+            if not users:
+                continue
+            delay = A.unique_name(ctx.net, f"{name}_delay")
+            node = A.unique_name(ctx.net, f"{name}_delayed")
+            T = f"{delay}.T"
+
+            def build(net, name=name, delay=delay, node=node, users=tuple(users), T=T):
+                for comp, port in users:
+                    net = A.connect(net, comp, port, node)
+                net = A.add(net, delay, "pade_delay", {"in": name, "out": node})
+                return A.free(net, T, 2.5e-4, (2e-4, 0.1), True)
+            out.append(Candidate("input_delay", users[0][0],
+                                 [NewParam(T, 2.5e-4, (2e-4, 0.1), (MIN_DELAY, 0.1), 5e-3, True)], build, "signal",
+                                 f"transport delay on input '{name}'"))
+        return out or [Skipped("input_delay", "no machine input drives a component")]
+
+
+class SensorLagFamily(Family):
+    """Pressure-sensor lags are always estimated as nuisance parameters (bounds up to a
+    typical transducer's few ms, :mod:`..measurement`); this candidate lets them grow to
+    100 ms, and adds a lag to position/velocity outputs."""
+
+    effects = ("sensor_lag",)
+
+    def candidates(self, ctx: Context):
+        out = []
+        sensors = sensor_components(ctx.net)
+        if sensors:
+            params = [NewParam(f"{s}.tau", min(ctx.value(f"{s}.tau"), PRESSURE_TAU_BOUNDS[1]),
+                               (PRESSURE_TAU_BOUNDS[0], 0.1), (CLEARLY_SLOW, 0.1), 0.01, True) for s in sensors]
+
+            def widen(net, params=params):
+                for p in params:
+                    net = A.free(net, p.name, ctx.value(p.name), p.bounds, True)
+                return net
+            out.append(Candidate("sensor_lag", sensors[0], params, widen, "measurement",
+                                 "pressure sensors slower than a typical transducer"))
+        motion = sorted({n for o, q in ctx.outputs.items() if q in ("position", "velocity")
+                         for n in _nodes_of(ctx, o)})
+        for node in motion:
+            sens = A.unique_name(ctx.net, f"{node}_sensor")
+            tau = f"{sens}.tau"
+
+            def build(net, node=node, sens=sens, tau=tau):
+                net = A.add(net, sens, "motion_sensor", {"a": node})
+                net = A.rewrite_outputs(net, {f"{node}.x": f"{sens}.x", f"{node}.v": f"{sens}.v"})
+                return A.free(net, tau, 1e-4, (1e-5, 0.1), True)
+            out.append(Candidate("sensor_lag", node, [NewParam(tau, 1e-4, (1e-5, 0.1), (1e-3, 0.1), 5e-3, True)],
+                                 build, "measurement", f"lag of the position/velocity sensor on '{node}'"))
+        return out or [Skipped("sensor_lag", "no sensed output")]
+
+
+def _nodes_of(ctx: Context, output: str) -> set[str]:
+    nodes = ctx.net.nodes()
+    return {s.rsplit(".", 1)[0] for s in A.output_symbols(ctx.net, output) if s.rsplit(".", 1)[0] in nodes}

@@ -1,0 +1,90 @@
+"""Equation errors: each balance equation of the model evaluated along the measured
+trajectory (Ljung, *System Identification* §7.3, equation-error view; seed 004 uses the
+same idea when it identifies friction from m·a − ΣF).
+
+States that an output measures directly (a chamber pressure — through its sensor — a
+position, a velocity) are replaced by the measurement, zero-phase low-pass filtered; the
+other states (e.g. the spool) come from the simulation. With X the hybrid trajectory,
+e_s = dx_s/dt|measured − f_s(X, U, p) for each measured state s. Nothing here knows the
+EHA: the equations come from ``model.numpy_evaluate`` and the state↔output map from the
+output expressions.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy import signal
+
+from ..model.model import Model
+from ..solve.simulate import simulate
+from .residuals import OPTS
+
+FC_HZ = 25.0
+
+
+def measured_states(model: Model, exp) -> dict[str, str]:
+    """{state: output} for outputs that read a state directly (through variable aliases),
+    and for pressure-sensor states their sensed node."""
+    from ..experiments.experiment import _direct_state
+    out = {}
+    for o in exp.measured:
+        s = _direct_state(model, model.equations.output_exprs.get(o))
+        if s is None:
+            continue
+        if s.endswith(".y") and f"{s[:-2]}.tau" in model.param_names:   # lagging sensor → sensed node
+            node = _sensed(model, s)
+            if node:
+                out[node] = o
+        out.setdefault(s, o)
+    return out
+
+
+def _sensed(model: Model, sensor_state: str) -> str | None:
+    e = model.equations.derivatives.get(sensor_state)
+    for kind, name in (e.symbols() if e is not None else ()):
+        if kind == "var" and name.endswith(".p") and name in model.equations.variables:
+            return _state_of(model, name)
+        if kind == "state" and name != sensor_state:
+            return name
+    return None
+
+
+def _state_of(model: Model, var: str) -> str | None:
+    e = model.equations.variables.get(var)
+    if e is not None and e.op == "sym" and e.args[0] == "state":
+        return e.args[1]
+    return var if var in model.state_names else None
+
+
+def _lowpass(y, fs):
+    b, a = signal.butter(2, min(FC_HZ / (fs / 2), 0.9))
+    return signal.filtfilt(b, a, y, axis=0)
+
+
+def equation_errors(model: Model, exp, p: np.ndarray) -> dict[str, dict]:
+    """{state: {"output", "balance", "relative_rms", "error"}} along the measured trajectory."""
+    t = exp.t_out
+    fs = 1.0 / float(np.median(np.diff(t)))
+    traj = simulate(model, exp.inputs, t, p=p, x0=exp.x0(model), opts=OPTS)
+    X = traj.X.copy()
+    ms = measured_states(model, exp)
+    for s, o in ms.items():
+        X[:, model.state_index(s)] = _lowpass(exp.measured[o], fs)
+    U = np.column_stack([np.interp(t, exp.inputs.t, exp.inputs.U[:, j]) for j in range(exp.inputs.U.shape[1])]) \
+        if exp.inputs.U.shape[1] else np.zeros((t.size, 0))
+    dx, _, _, _ = model.numpy_evaluate()(t, list(X.T), p, list(U.T))
+    out = {}
+    for s, o in ms.items():
+        i = model.state_index(s)
+        unit = model.states[i].unit
+        if unit == "m" or s.endswith(".y"):        # kinematic (dx/dt = v) or the sensor itself
+            continue
+        meas = np.gradient(X[:, i], t)
+        f = _lowpass(np.broadcast_to(np.asarray(dx[i], float), t.shape), fs)
+        e = meas - f
+        scale = float(np.sqrt(np.mean(meas ** 2))) or 1.0
+        node = s.rsplit(".", 1)[0]
+        balance = {"Pa": f"continuity at '{node}'", "m/s": f"force balance at '{node}'",
+                   "rad/s": f"torque balance at '{node}'"}.get(unit, f"equation of '{s}'")
+        out[s] = {"output": o, "balance": balance, "relative_rms": float(np.sqrt(np.mean(e ** 2))) / scale,
+                  "error": e}
+    return out

@@ -1,0 +1,79 @@
+"""Outputs of a diagnosis: diagnosis.json, augmented.yaml and the plain-language console
+summary (which output, where, which regime, which effect, ESR before → after)."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from ..netlist import yamldoc as Y
+from . import augment
+
+
+def _plain(o):
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, np.generic):
+        return o.item()
+    raise TypeError(f"not JSON serialisable: {type(o)}")
+
+
+def write_json(diag, path: Path) -> None:
+    Y.write_atomic(path, json.dumps(diag.data, indent=1, default=_plain, allow_nan=True))
+
+
+def write_augmented(diag, path: Path) -> None:
+    """The final machine (accepted effects as real components/options, identified values)."""
+    text = augment.text_of(diag.final.net)
+    head = (f"# augmented by 'hydro diagnose': effects {', '.join(diag.data['effects'])}; pressure sensors carry\n"
+            f"# their identified lag (measurement model). Base machine: {diag.data['machine']}\n")
+    Y.write_atomic(path, head + text)
+
+
+def console_summary(diag) -> str:
+    d = diag.data
+    lines = []
+    loc = d["located"]
+    outs = sorted(loc["outputs"].items(), key=lambda kv: -kv[1])
+    if outs:
+        o, share = outs[0]
+        lines.append(f"Base model re-identified: validation ESR {_tab(d['esr_validation_base'])}.")
+        conc = [r for r in loc["regimes"] if r["concentration"] > 1.2][:2]
+        where = " and ".join(f"{r['regime']} ({100 * r['share']:.0f} % of the error in {100 * r['time_share']:.0f} % "
+                             f"of the time)" for r in conc)
+        lines.append(f"The error is largest in {o} ({100 * share:.0f} % of the residual) and "
+                     + (f"concentrates in {where}." if where else "is spread over all regimes."))
+        eq = loc.get("equations") or {}
+        if eq:
+            s, e = max(eq.items(), key=lambda kv: kv[1]["relative_rms"])
+            lines.append(f"The {e['balance']} carries the largest equation error (RMS {e['relative_rms']:.2g} × the "
+                         f"RMS of the measured rate).")
+    bad = [p for p in d["base_parameters"] if p["implausible"]]
+    for p in bad[:4]:
+        lines.append(f"Parameter {p['name']} = {p['value']:.4g}: {p['why']}.")
+    for m, info in d.get("measurement_model", {}).items():
+        if "tau_s" in info:
+            lines.append(f"Pressure sensor on '{info['sensed_node']}': lag {1e3 * info['tau_s']:.2f} ms "
+                         "(measurement model, not counted as an effect).")
+    if d["accepted"]:
+        for a in d["accepted"]:
+            o = max(a["esr_validation_before"], key=lambda k: a["esr_validation_before"][k]
+                    - a["esr_validation_after"][k])
+            pars = ", ".join(f"{p['name']} = {p['value']:.3g} ± {p['stderr']:.2g}" for p in a["parameters"])
+            lines.append(f"{a['effect'].replace('_', ' ').capitalize()} on '{a['component']}' was missing "
+                         f"({pars}); adding it cut validation ESR of {o} from "
+                         f"{a['esr_validation_before'][o]:.3g} % to {a['esr_validation_after'][o]:.3g} % "
+                         f"(ΔBIC {a['delta_bic']:+.0f}).")
+    else:
+        best = d["ranking"][0] if d["ranking"] else None
+        tail = f" (best candidate {best['effect']}: {'; '.join(best.get('reasons', [])) or 'not re-identified'})" \
+            if best else ""
+        lines.append("No missing physics found: no candidate improved both BIC and held-out validation ESR beyond "
+                     f"the noise band{tail}.")
+    lines.append(f"Verdict: {d['verdict']} ({', '.join(d['effects'])}); {d['runtime_s']:.0f} s.")
+    return "\n".join(lines)
+
+
+def _tab(t: dict) -> str:
+    return ", ".join(f"{k} {v:.3g} %" for k, v in t.items())

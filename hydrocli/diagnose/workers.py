@@ -1,0 +1,89 @@
+"""Per-candidate work that runs in worker processes (``--jobs``): build the augmented
+model from its YAML text, screen it (score test) or re-identify it. Payloads are plain
+picklable data (text, arrays, experiments); compiled models are cached on disk."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.builder import build_model
+from ..netlist.loader import load_netlist_text
+from . import baseline, residuals, stats
+
+
+def model_from_text(text: str, file: str):
+    return build_model(load_netlist_text(text, file))
+
+
+def warm_vector(model, names: list[str], values: np.ndarray) -> np.ndarray:
+    p = model.p0
+    idx = {n: i for i, n in enumerate(model.param_names)}
+    for n, v in zip(names, values):
+        if n in idx:
+            p[idx[n]] = v
+    return p
+
+
+def screen_one(job: dict) -> dict:
+    """Score test: secant output sensitivities of the new parameters, regressed on the
+    current residual after projecting out the current model's own sensitivities."""
+    try:
+        model = model_from_text(job["text"], job["file"])
+        p = warm_vector(model, job["names"], job["values"])
+        obj = residuals.objective(model, job["train"], job["outputs"])
+        for prm in job["params"]:
+            p[model.param_index(prm.name)] = prm.start
+        r0 = obj.residuals(p)
+        idx = [model.param_index(prm.name) for prm in job["params"]]
+        steps = [prm.probe - prm.start for prm in job["params"]]
+        S = residuals.sensitivities(obj, p, idx, steps, r0)
+        res = stats.screen(job["r"], S, job["B"], job["n_eff"])
+        step = [prm.start - c for prm, c in zip(job["params"], res["coef"])]   # Gauss–Newton step: r ≈ S·coef
+        starts = [{prm.name: prm.start for prm in job["params"]}, {prm.name: prm.probe for prm in job["params"]},
+                  {prm.name: float(np.clip(v, *_inner(prm.bounds))) for prm, v in zip(job["params"], step)}]
+        return {"key": job["key"], "dr2": res["dr2"], "t": res["t"].tolist(), "p_value": res["p"], "error": None,
+                "starts": starts}
+    except Exception as exc:  # a candidate that cannot be built or simulated is reported, not fatal
+        return {"key": job["key"], "dr2": 0.0, "t": [], "p_value": 1.0, "error": f"{type(exc).__name__}: {exc}"}
+
+
+def _inner(bounds, margin=0.02):
+    lo, hi = bounds
+    return lo + margin * (hi - lo), hi - margin * (hi - lo)
+
+
+def fit_one(job: dict) -> dict:
+    """Re-identify base + new parameters, then score train and validation. The new
+    parameters start from the best of: effect off, the probe value, and the Gauss–Newton
+    step of the screening regression (so an effect far from zero is reached in few
+    iterations)."""
+    try:
+        model = model_from_text(job["text"], job["file"])
+        p = warm_vector(model, job["names"], job["values"])
+        obj = residuals.objective(model, job["train"], job["outputs"])
+        best = None
+        for start in job.get("starts") or [{}]:
+            q = p.copy()
+            for n, v in start.items():
+                q[model.param_index(n)] = v
+            c = obj.cost(q)
+            if best is None or c < best[0]:
+                best = (c, q)
+        p = best[1]
+        res = baseline.identify(model, job["train"], job["outputs"], p_start=p, max_evals=job["max_evals"])
+        Ytr = residuals.simulate_outputs(model, job["train"], res.p)
+        Yva = residuals.simulate_outputs(model, job["validate"], res.p)
+        return {"key": job["key"], "error": None, "names": res.names, "estimates": res.estimates.tolist(),
+                "stderr": baseline.inflated_stderr(res, job["n_eff"]).tolist(), "cost": res.cost,
+                "p": res.p, "param_names": model.param_names, "seconds": res.seconds,
+                "esr_train": residuals.esr_table(model, job["train"], Ytr, job["outputs"]),
+                "esr_validation": residuals.esr_table(model, job["validate"], Yva, job["outputs"])}
+    except Exception as exc:
+        return {"key": job["key"], "error": f"{type(exc).__name__}: {exc}"}
+
+
+def run_all(fn, jobs: list[dict], n_jobs: int) -> list[dict]:
+    if n_jobs <= 1 or len(jobs) <= 1:
+        return [fn(j) for j in jobs]
+    from concurrent.futures import ProcessPoolExecutor
+    with ProcessPoolExecutor(max_workers=n_jobs) as pool:
+        return list(pool.map(fn, jobs))

@@ -1,0 +1,93 @@
+"""End to end on a fast synthetic case: a truth bench WITH Coulomb friction is simulated
+(6 s train, 6 s validation, different excitation, sensor noise); the base machine has no
+Coulomb friction. The diagnosis must name coulomb_friction, improve validation ESR, and
+write a machine file that loads, builds and simulates."""
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hydrocli.diagnose import Settings, diagnose
+from hydrocli.diagnose.summary import console_summary, write_augmented, write_json
+from hydrocli.model.builder import build_model
+from hydrocli.netlist.loader import load_netlist, load_netlist_text
+from hydrocli.solve.simulate import InputTable, SolverOptions, simulate
+
+EHA = Path(__file__).parents[2] / "machines" / "eha_testbench.yaml"
+
+
+def _machine(kc: float) -> str:
+    """The EHA bench with only Kv and the viscous friction free, and Coulomb force kc."""
+    text = EHA.read_text()
+    import re
+    text = re.sub(r"(\n\s+)(V_A0|V_B0|c_il|m|ks_p|ks_m|vs_p|vs_m): \{value: ([^,]+), free: true, bounds: \[[^]]*\]\}",
+                  r"\1\2: \3", text)
+    text = text.replace('c_el: {value: 0.0, free: true, bounds: [0.0, 1.0e-11]}', "c_el: 0.0")
+    text = re.sub(r"kc_p: \{[^}]*\}", f"kc_p: {kc}", text)
+    text = re.sub(r"kc_m: \{[^}]*\}", f"kc_m: {kc}", text)
+    text = text.replace('beta: {value: "1.73 GPa", free: true, bounds: ["0.3 GPa", "2.5 GPa"]}', 'beta: "1.73 GPa"')
+    return text
+
+
+def _record(model, t, u, fext, path, rng):
+    U = np.column_stack([u, np.full(t.size, 1e7), fext])
+    tr = simulate(model, InputTable(t, U), t, opts=SolverOptions(rtol=1e-6))
+    Y = {o: tr.Y[:, model.output_names.index(o)] for o in ("P1", "P2", "x", "v")}
+    Y["P1"] = Y["P1"] + 1.5e4 * rng.normal(size=t.size)
+    Y["P2"] = Y["P2"] + 1.5e4 * rng.normal(size=t.size)
+    Y["v"] = Y["v"] + 1e-3 * rng.normal(size=t.size)
+    Y["x"] = np.round(Y["x"] / 5e-6) * 5e-6
+    data = np.column_stack([t, 100 * u, U[:, 1], fext, Y["P1"], Y["P2"], Y["x"], Y["v"]])
+    np.savetxt(path, data, delimiter=",", header="t[s],u[%],Ps[Pa],Fext[N],P1[Pa],P2[Pa],x[m],v[m/s]", comments="")
+
+
+@pytest.fixture(scope="module")
+def case(tmp_path_factory):
+    d = tmp_path_factory.mktemp("diag")
+    os.environ.setdefault("HYDRO_CACHE_DIR", str(d / "cache"))
+    base = d / "base.yaml"
+    base.write_text(_machine(0.0))
+    truth = build_model(load_netlist_text(_machine(1500.0), str(d / "truth.yaml")))
+    rng = np.random.default_rng(1)
+    t = np.arange(0, 6.0005, 1e-3)
+    u_tr = 0.08 * np.sin(2 * np.pi * 0.5 * t) + 0.03 * np.sin(2 * np.pi * 1.7 * t)
+    u_va = 0.06 * np.sin(2 * np.pi * 0.8 * t + 0.5) + 0.04 * np.sign(np.sin(2 * np.pi * 0.3 * t)) * 0.5
+    _record(truth, t, u_tr, 300 * np.sin(2 * np.pi * 1.1 * t), d / "train.csv", rng)
+    _record(truth, t, u_va, 200 * np.sin(2 * np.pi * 0.7 * t), d / "validate.csv", rng)
+    return d, base
+
+
+def test_diagnose_names_coulomb_friction_and_improves_validation(case):
+    d, base = case
+    diag = diagnose(base, [d / "train.csv"], [d / "validate.csv"],
+                    Settings(max_effects=1, jobs=1, top=2, base_evals=15, candidate_evals=12,
+                             only=("coulomb_friction", "internal_leakage", "entrained_air", "valve_overlap")))
+    data = diag.data
+    assert data["verdict"] == "missing_physics"
+    acc = data["accepted"][0]
+    assert acc["effect"] == "coulomb_friction"
+    kc = {p["name"]: p["value"] for p in acc["parameters"]}
+    assert kc["friction.kc_p"] == pytest.approx(1500, rel=0.3)
+    before, after = acc["esr_validation_before"], acc["esr_validation_after"]
+    assert sum(after.values()) < 0.5 * sum(before.values())
+    assert data["ranking"][0]["effect"] == "coulomb_friction"
+    assert all(r["evidence"] for r in data["ranking"])
+    write_json(diag, d / "diagnosis.json")
+    write_augmented(diag, d / "augmented.yaml")
+    assert json.loads((d / "diagnosis.json").read_text())["verdict"] == "missing_physics"
+    model = build_model(load_netlist(d / "augmented.yaml"))
+    assert {"friction.kc_p", "friction.kc_m"} <= set(model.free_params)
+    assert "Coulomb friction" in console_summary(diag)
+    from hydrocli.diagnose.report_pages import write_report
+    write_report(diag, d / "report.pdf")
+    assert (d / "report.pdf").read_bytes()[:4] == b"%PDF"
+
+
+def test_cli_usage_errors_exit_2():
+    from typer.testing import CliRunner
+    from hydrocli.cli.main import app
+    res = CliRunner().invoke(app, ["diagnose", str(EHA), "--validate", "v.csv"])
+    assert res.exit_code == 2
+    assert "--train" in res.output
