@@ -7,6 +7,11 @@ from ..registry import register
 from .fluid import effective_bulk_modulus
 
 
+#: a chamber compressed below this fraction of its x = 0 volume means the piston has left
+#: its stroke (the solver would otherwise fail on the stiffness blow-up as V → 0)
+VOLUME_FLOOR = 1e-2
+
+
 def end_stop_force(x, v, x_min, x_max, k, c, eps):
     """Penalty end stops: a stiff spring-damper acting beyond [x_min, x_max] (force on the
     piston, positive in +x). The damper acts only while penetrating and is smoothed."""
@@ -25,9 +30,9 @@ def _cylinder_equations(c, area_a, area_b):
     pa, pb = c.across("A"), c.across("B")
     va = c.let("V_A", p.V_A0 + area_a * x)
     vb = c.let("V_B", p.V_B0 - area_b * x)
-    c.guard(va <= 0.0, "chamber A volume reached zero (stroke overrun): add end stops (k_stop > 0, "
+    c.guard(va <= VOLUME_FLOOR * p.V_A0, "chamber A collapsed below 1 % of its volume at x = 0 (stroke overrun): add end stops (k_stop > 0, "
                        "x_min/x_max) or check V_A0, the command and the load")
-    c.guard(vb <= 0.0, "chamber B volume reached zero (stroke overrun): add end stops (k_stop > 0, "
+    c.guard(vb <= VOLUME_FLOOR * p.V_B0, "chamber B collapsed below 1 % of its volume at x = 0 (stroke overrun): add end stops (k_stop > 0, "
                        "x_min/x_max) or check V_B0, the command and the load")
     air = p.air if c.active("air") else 0.0
     c.capacitance("A", va / effective_bulk_modulus(p.beta, pa, air))
