@@ -89,10 +89,13 @@ def _solver_error(model: Model, status: int, stats: dict, message: str) -> Solve
         return SolverError(Problem(f"at t = {t_fail:.6g} s: {model.guard_message(status - 100)}",
                                    hint="the model left its valid range; see the message for what to add"))
     worst = int(stats.get("worst_state", -1))
-    sname = model.state_names[worst] if 0 <= worst < len(model.state_names) else "unknown"
     what = {1: "step size underflow (stiffness blow-up or a discontinuity)",
             2: "too many steps", 3: "a state became NaN or infinite"}.get(status, message)
-    return SolverError(Problem(f"at t = {t_fail:.6g} s: {what}; state '{sname}' diverged",
+    if 0 <= worst < len(model.state_names):
+        what += f"; state '{model.state_names[worst]}' diverged"
+    else:
+        what += " (the implicit step's linear system became singular)"
+    return SolverError(Problem(f"at t = {t_fail:.6g} s: {what}",
                                hint="check parameters of the components around that state (volumes, "
                                     "masses, stiffness), add end stops, or loosen --rtol"))
 
