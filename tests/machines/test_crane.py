@@ -1,6 +1,8 @@
 """Seed 000 knuckle-boom crane: mobility (eq. 1), Table 2 connection stiffnesses (eq. 2), and a
 steady holding run whose p2/p3 balance the gravity load through the cylinder Jacobian with
-both counterbalance valves below their cracking lines (eqs. 29–33)."""
+both counterbalance valves below their cracking lines (eqs. 29–33); the inner jib has the Fig. 2
+circuit (servo valve, Table 4; one externally vented CBV, Table 5) and holds its load with that
+CBV below its cracking line p2 + ψ·p3 = p_cr (eqs. 13, 16, 18)."""
 from pathlib import Path
 
 import numpy as np
@@ -63,3 +65,37 @@ def test_steady_hold_pressures_balance_gravity():
     mu_l1, mu_x1 = (p["p2"] - p["p1"]) / p_cr, p["p4"] / p["p2"]     # eqs. 32–33 (CBV1)
     assert mu_l1 < line(mu_x1) and mu_l2 < line(mu_x2)
     assert p["p2"] > 30e5 and p["p3"] > 0.0
+
+
+def test_inner_jib_servo_valve_and_vented_cbv_hold_the_load():
+    net = load_netlist(ROOT / "machines" / "knuckle_boom_crane.yaml")
+    inner = {k.split(".", 1)[1]: c for k, c in net.components.items() if k.startswith("inner.")}
+    assert inner["dcv"].type == "valve_4_3"                               # servo valve, not PC-LS
+    cbvs = [c for c in inner.values() if c.type == "counterbalance_valve"]
+    assert len(cbvs) == 1 and int(cbvs[0].params["vented"].value) == 1   # ONE vented CBV (Fig. 2)
+    model = build_model(net)
+    p = model.param_vector()
+    lpm = 1e-3 / 60 / np.sqrt(1e5)                                        # L/min/bar^0.5 → SI
+    table = {"inner.dcv.Kv": 111.8 * lpm, "inner.dcv.tau": 1 / 250, "inner.dcv.zeta": 0.8,     # Table 4
+             "inner.dcv.overlap_PA": 0.05, "inner.dcv.overlap_AT": 0.0,
+             "inner.cbv.Cv_check": 89.4 * lpm, "inner.cbv.p_cr": 250e5, "inner.cbv.C1": 3.0,   # Table 5
+             "inner.cbv.C2": 0.0, "inner.cbv.p_cr_check": 1e5, "inner.cbv.k_s_check": 1e5}
+    for name, v in table.items():
+        assert p[model.param_index(name)] == pytest.approx(v, rel=1e-3, abs=1e-12), name
+    exp = load_experiment_file(ROOT / "experiments" / "crane" / "hold.yaml", model)
+    tr = simulate(model, exp.inputs, exp.t_out, x0=model.x0, opts=SolverOptions(rtol=1e-6))
+    y = {n: tr.Y[:, i] for i, n in enumerate(model.output_names)}
+    vs = model.evaluate_along(exp.t_out, tr.X, np.zeros((exp.t_out.size, 3)))
+    assert np.ptp(y["l_inner"]) < 1e-3                                    # held (no creep)
+    p2, p3 = y["p2_inner"] - 1e5, y["p3_inner"] - 1e5                    # gauge (vented to tank)
+    psi, p_cr = 3.0, 250e5                                                # Table 5, inner jib
+    assert np.all(p2 + psi * p3 < 0.95 * p_cr)                            # eq. 13: below cracking
+    assert np.all(p2 / p_cr < 1.0 / (1.0 + psi * p3 / p2))                # eqs. 15, 16, 18
+    assert np.all(vs["inner.cbv.s"] < 0)
+    assert np.max(np.abs(vs["inner.cbv.q"])) < 1e-7                       # no lowering flow
+    # the trapped piston chamber carries the jib: p2·A_A − p3·A_B = gravity torque / (∂L/∂q) at B
+    a_a, a_b = 7.069e-2, 4.524e-2                                         # Table 6, inner jib
+    f_hyd = np.mean(p2 * a_a - p3 * a_b)
+    f_needed = np.mean(vs["crane.bias4"] / vs["crane.dL1_dq4"])
+    assert f_needed > 5e5
+    assert f_hyd == pytest.approx(f_needed, abs=6400 + 0.03 * f_needed)
