@@ -150,7 +150,13 @@ class CounterbalanceValve(Component):
         mu_l = c.let("mu_L", (p_l if int(c.value("vented")) else p_l - p_1) / p.p_cr)
         mu_cr = c.let("mu_L_cr", 1.0 / (1.0 + p.C1 * mu_x + p.C2 * mu_x * mu_x))
         s = c.let("s", mu_l - mu_cr)
-        q_cbv = c.let("q_cbv", (p.A0 + p.A1 * mu_x) * regularised_power(s, p.n0 + p.n1 * mu_x, p.eps_s))
+        q_map = (p.A0 + p.A1 * mu_x) * regularised_power(s, p.n0 + p.n1 * mu_x, p.eps_s)
+        if int(c.value("vented")):
+            # the vented map (eq. 16) does not see the outlet pressure: let the flow vanish
+            # smoothly when p_1 reaches p_L, so a trapped line cannot push oil backwards
+            drop = E.smooth_pos(p_l - p_1, p.dp_lam)
+            q_map = q_map * drop / (drop + p.dp_lam)
+        q_cbv = c.let("q_cbv", q_map)
         if c.active("Cv_check"):
             dp = p_1 - p_l
             xi = pressure_opening(dp, p.p_cr_check, p.k_s_check, 1e-3)
