@@ -20,14 +20,28 @@ MIN_REL_LATER = 0.3   # a second or third effect must remove more of what is lef
                       # effect is in, small form mismatches of it are what remains, and other
                       # candidates would happily absorb them
 MAX_REL_SE = 0.5
+MIN_REL_FIRST = 0.25  # a second or third effect's validation gain must be ≥ this share of the first's
+
+
+def _at_bound(v: float, bounds, log: bool | None) -> bool:
+    """At a bound within 0.1 % of the range — of the log range for log-scaled parameters
+    (a linear test would call 1e7 'at the bound' 1e5 of the range 1e5…1e10)."""
+    lo, hi = bounds
+    if log and lo > 0 and hi > 0 and v > 0:
+        lv, llo, lhi = np.log(v), np.log(lo), np.log(hi)
+        return abs(lv - llo) < 1e-3 * (lhi - llo) or abs(lhi - lv) < 1e-3 * (lhi - llo)
+    return abs(v - lo) < 1e-3 * (hi - lo) or abs(hi - v) < 1e-3 * (hi - lo)
 
 
 def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: float, noise: float,
-          later: bool = False) -> dict:
+          later: bool = False, first_gain: float | None = None) -> dict:
     k = len(cand.params)
     dbic = stats.delta_bic(ssr0, fitres["cost"], n_eff, k)
     gain = val0 - val1
     need = max(noise, (MIN_REL_LATER if later else MIN_REL) * max(val0 - noise, 0.0))
+    if later and first_gain is not None and first_gain > 0:
+        # a further effect must matter next to the first one, not mop up its form mismatch
+        need = max(need, MIN_REL_FIRST * first_gain)
     reasons = []
     if not dbic < 0:
         reasons.append(f"BIC does not improve (ΔBIC = {dbic:+.1f})")
@@ -38,14 +52,14 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
     plausible_any = False
     for p in cand.params:
         v, s = est[p.name], se[p.name]
-        lo, hi = p.bounds
-        at_bound = abs(v - lo) < 1e-3 * (hi - lo) or abs(hi - v) < 1e-3 * (hi - lo)
-        inside = p.plausible[0] <= abs(v) <= p.plausible[1]
+        at_bound = _at_bound(v, p.bounds, p.log)
+        inside = p.plausible[0] <= abs(v - p.ref) <= p.plausible[1]
         plausible_any |= inside and p.primary
         if at_bound and inside:
             reasons.append(f"{p.name} ended at a bound ({v:.3g})")
-        if inside and np.isfinite(s) and abs(v) > 0 and s / abs(v) > MAX_REL_SE:
-            reasons.append(f"{p.name} poorly determined (±{100 * s / abs(v):.0f} %)")
+        dev = abs(v - p.ref)
+        if inside and np.isfinite(s) and dev > 0 and s / dev > MAX_REL_SE:
+            reasons.append(f"{p.name} poorly determined (±{100 * s / dev:.0f} % of its effect)")
     if not plausible_any:
         vals = ", ".join(f"{p.name} = {est[p.name]:.3g}" for p in cand.params if p.primary)
         reasons.append(f"no new parameter in its plausible range ({vals})")

@@ -61,6 +61,13 @@ def add(net: Netlist, name: str, type_: str, ports: dict[str, str], params: dict
     return reload(net, writer.add_component(net, name, type_, ports, params or {}))
 
 
+def set_type(net: Netlist, comp: str, type_: str) -> Netlist:
+    """Replace a component's type by a compatible one (same ports and parameters, more of them)."""
+    doc = Y.load_text(Y.dump_text(net.doc), net.file)
+    doc["components"][comp]["type"] = type_
+    return reload(net, Y.dump_text(doc))
+
+
 def connect(net: Netlist, comp: str, port: str, node: str) -> Netlist:
     return reload(net, writer.set_port(net, comp, port, node))
 

@@ -181,8 +181,10 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                    "evidence": _evidence(c, scores[c.key], where)}
             f = fits.get(c.key)
             if f is not None and f.get("error") is None:
+                first_gain = (residuals.total(accepted[0]["esr_validation_before"])
+                              - residuals.total(accepted[0]["esr_validation_after"])) if accepted else None
                 verdict = accept.judge(c, f, ssr0, n_eff, val0, residuals.total(f["esr_validation"]), noise_total,
-                                       later=bool(accepted))
+                                       later=bool(accepted), first_gain=first_gain)
                 row.update(score=max(1.0 - f["cost"] / ssr0, 0.0), fitted=True, **verdict,
                            esr_validation_after=f["esr_validation"],
                            parameters=_new_params(c, f))

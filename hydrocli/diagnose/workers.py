@@ -40,10 +40,32 @@ def screen_one(job: dict) -> dict:
         step = [prm.start - c for prm, c in zip(job["params"], res["coef"])]   # Gauss–Newton step: r ≈ S·coef
         starts = [{prm.name: prm.start for prm in job["params"]}, {prm.name: prm.probe for prm in job["params"]},
                   {prm.name: float(np.clip(v, *_inner(prm.bounds))) for prm, v in zip(job["params"], step)}]
+        starts += _log_grid(job["params"])
         return {"key": job["key"], "dr2": res["dr2"], "t": res["t"].tolist(), "p_value": res["p"], "error": None,
                 "starts": starts}
     except Exception as exc:  # a candidate that cannot be built or simulated is reported, not fatal
         return {"key": job["key"], "dr2": 0.0, "t": [], "p_value": 1.0, "error": f"{type(exc).__name__}: {exc}"}
+
+
+def _log_grid(params, n: int = 4) -> list[dict]:
+    """Extra starts across the PLAUSIBLE range of the primary parameters whose "no effect"
+    value is 0 (geometric points, jointly; companions at their start). A stiffness,
+    conductance or overlap started where the outputs hardly depend on it (a rigid link, a
+    closed orifice, a zero-lap spool) has no gradient to follow, and re-identified base
+    parameters may already mimic a small effect, so the optimiser must be offered starts
+    where the effect is fully visible."""
+    grid = [p for p in params if p.primary and p.ref == 0 and p.plausible[0] > 0]
+    if not grid:
+        return []
+    out = []
+    for f in np.linspace(0, 1, n + 2)[1:-1]:
+        d = {p.name: p.start for p in params}
+        for p in grid:
+            lo, hi = np.log(p.plausible[0]), np.log(p.plausible[1])
+            inner = (p.bounds[0] * 1.05, p.bounds[1] / 1.05) if p.log and p.bounds[0] > 0 else _inner(p.bounds)
+            d[p.name] = float(np.clip(np.exp(lo + f * (hi - lo)), *inner))
+        out.append(d)
+    return out
 
 
 def _inner(bounds, margin=0.02):

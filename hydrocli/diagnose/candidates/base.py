@@ -36,6 +36,7 @@ class NewParam:
     probe: float                           # value of the screening secant
     log: bool | None = None
     primary: bool = True                   # False: a companion parameter (acceptance looks at primaries)
+    ref: float = 0.0                       # value meaning "no effect": plausibility is judged on |value − ref|
 
 
 @dataclass

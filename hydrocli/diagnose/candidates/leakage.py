@@ -34,8 +34,9 @@ class CylinderFamily(Family):
                               "rod/piston seals leaking to drain through orifices (turbulent law)")
             out.append(el)
             out.append(self.parameter_candidate(
-                ctx, "entrained_air", cyl, [NewParam(p + "air", 1e-4, (0.0, 0.1), (1e-3, 0.1), 0.01)],
-                "continuity", "undissolved air lowers the chamber stiffness at low pressure"))
+                ctx, "entrained_air", cyl, [NewParam(p + "air", 1e-4, (1e-5, 0.3), (1e-3, 0.3), 0.03, True)],
+                "continuity", "undissolved air lowers the chamber stiffness at low pressure (log scale up "
+                              "to 30 %: an isentropic fit of isothermal, partly dissolving air needs more)"))
             out.append(self._end_stop(ctx, cyl))
         return out
 
@@ -49,10 +50,12 @@ class CylinderFamily(Family):
         params = [NewParam(f"{cyl}.x_min", lo - 0.2 * span, (lo - 0.5 * span, lo + 0.02 * span),
                            (lo - 0.5 * span, lo + 0.02 * span), lo - 0.005 * span),
                   NewParam(f"{cyl}.x_max", hi + 0.2 * span, (hi - 0.02 * span, hi + 0.5 * span),
-                           (hi - 0.02 * span, hi + 0.5 * span), hi + 0.005 * span)]
+                           (hi - 0.02 * span, hi + 0.5 * span), hi + 0.005 * span),
+                  # contact stiffness identified too (log scale): a real stop (Hertz/Hunt–Crossley
+                  # contact) is far from one fixed linear spring
+                  NewParam(f"{cyl}.k_stop", 1e8, (1e6, 1e11), (1e6, 1e11), 3e8, True, primary=False)]
         return self.parameter_candidate(ctx, "end_stop", cyl, params, "force",
-                                        "stiff end stops at the stroke ends", fixed={f"{cyl}.k_stop": 1e8,
-                                                                                     f"{cyl}.c_stop": 1e4})
+                                        "stiff end stops at the stroke ends", fixed={f"{cyl}.c_stop": 1e4})
 
 
 def _tank_node(ctx: Context) -> str | None:

@@ -41,18 +41,28 @@ class MechanicsFamily(Family):
         load = A.unique_name(ctx.net, f"{rod}_load")
         spring, damper, rodm = (A.unique_name(ctx.net, f"{cyl}_{s}") for s in ("coupling", "coupling_damper", "rod_mass"))
         keep = {c for c, _ in ctx.on_node(rod) if ctx.net.components[c].type in ("friction",) or c == cyl}
-        k_probe = 1e7
+        # the rod side keeps a small mass (piston and rod; the load's mass stays free); the
+        # coupling's stiffness AND damping are identified (log scale): a fixed damper sized for
+        # a stiff link would overdamp a soft one and hide it. Probes where a link is visible
+        # (a mode at some 10–30 Hz for the identified mass).
+        k_probe = (2 * 3.14159 * 25.0) ** 2 * 0.3 * m
+        c0 = 0.2 * (1e7 * 0.1 * m) ** 0.5
+        params = [NewParam(f"{spring}.k", 1e9, (1e5, 1e10), (1e5, 5e8), k_probe, True),
+                  NewParam(f"{damper}.c", c0, (1.0, 1e5), (1.0, 1e5), 0.3 * c0, True, primary=False)]
 
         def build(net):
             net = A.move_node(net, rod, load, keep)
             net = A.add(net, rodm, "mass", {"m": rod}, {"m": 0.1 * m})
             net = A.add(net, spring, "spring", {"a": rod, "b": load})
-            net = A.add(net, damper, "damper", {"a": rod, "b": load}, {"c": 2 * (1e9 * m) ** 0.5 * 0.1})
+            net = A.add(net, damper, "damper", {"a": rod, "b": load}, {"c": c0})
             net = A.rewrite_outputs(net, {f"{rod}.x": f"{load}.x", f"{rod}.v": f"{load}.v"})
             net = _move_initial(net, rod, load)
-            return A.free(net, f"{spring}.k", 1e9, (1e5, 1e10), True)
-        return Candidate("load_compliance", cyl, [NewParam(f"{spring}.k", 1e9, (1e5, 1e10), (1e5, 5e8), k_probe, True)],
-                         build, "force", f"elastic coupling between the rod of '{cyl}' and its load")
+            for prm in params:
+                net = A.free(net, prm.name, prm.start, prm.bounds, True)
+            return net
+        return Candidate("load_compliance", cyl, params,
+                         build, "force", f"elastic coupling between the rod of '{cyl}' and its load "
+                                         "(x and v measured on the load side)")
 
     @staticmethod
     def _payload(ctx: Context, cyl: str, rod: str, m: float):

@@ -1,0 +1,34 @@
+"""A 4/3 proportional valve with an individual flow gain per metering edge (valve asymmetry:
+unmatched edges from machining tolerances or wear, so meter-in and meter-out edges and the two
+directions differ). Same equations as ``valve_4_3`` (seed 004 eqs. 1–3; seed 000 eqs. 6–9) with
+the edge flows scaled by g_PA, g_BT (x_v > 0) and g_PB, g_AT (x_v < 0); all gains 1 is the
+symmetric valve."""
+from __future__ import annotations
+
+from ..base import Param
+from ..hydraulic.valve import Valve43, edge_flow, spool_position, stamp_four_edges
+from ..registry import register
+
+
+@register
+class Valve43Edges(Valve43):
+    type = "valve_4_3_edges"
+    family = "effects"
+    description = "4/3 proportional valve with one flow gain per metering edge (valve asymmetry)"
+    parameters = Valve43.parameters + (
+        Param("g_PA", "1", 1.0, "gain of edge P→A relative to Kv", positive=True, bounds=(0.3, 3.0)),
+        Param("g_BT", "1", 1.0, "gain of edge B→T relative to Kv", positive=True, bounds=(0.3, 3.0)),
+        Param("g_PB", "1", 1.0, "gain of edge P→B relative to Kv·Kv_neg_ratio", positive=True, bounds=(0.3, 3.0)),
+        Param("g_AT", "1", 1.0, "gain of edge A→T relative to Kv·Kv_neg_ratio", positive=True, bounds=(0.3, 3.0)),
+    )
+
+    def equations(self, c):
+        p = c.p
+        xv = spool_position(c)
+        pP, pT, pA, pB = (c.across(n) for n in "PTAB")
+        kneg = p.Kv * p.Kv_neg_ratio
+        stamp_four_edges(c,
+                         edge_flow(c, pP - pA, xv, p.overlap_PA, p.Kv * p.g_PA),
+                         edge_flow(c, pB - pT, xv, p.overlap_BT, p.Kv * p.g_BT),
+                         edge_flow(c, pP - pB, -xv, p.overlap_PB, kneg * p.g_PB),
+                         edge_flow(c, pA - pT, -xv, p.overlap_AT, kneg * p.g_AT))
