@@ -71,6 +71,11 @@ class Port:
     direction: str = ""        # signal ports: "in" or "out"
 
 
+#: the ports of a single-input, single-output signal block
+SIGNAL_IN = Port("in", Domain.SIGNAL, "input signal", direction="in")
+SIGNAL_OUT = Port("out", Domain.SIGNAL, "output signal", direction="out")
+
+
 @dataclass(frozen=True)
 class Param:
     """One parameter: SI unit, default, hard validity limits and identification bounds."""

@@ -11,11 +11,10 @@ smooth right-hand side.
 from __future__ import annotations
 
 from ...model import expr as E
-from ..base import Component, Param, Port, S, StateSpec
+from ..base import SIGNAL_IN, SIGNAL_OUT, Component, Param, StateSpec
 from ..registry import register
 
-_IN = Port("in", S, "input signal", direction="in")
-_OUT = Port("out", S, "output signal", direction="out")
+_IN, _OUT = SIGNAL_IN, SIGNAL_OUT
 
 
 @register

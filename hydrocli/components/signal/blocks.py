@@ -2,12 +2,11 @@
 from __future__ import annotations
 
 from ...model import expr as E
-from ..base import Component, Param, Port, S, StateSpec
+from ..base import SIGNAL_IN, SIGNAL_OUT, Component, Param, Port, S, StateSpec
 from ..dynamics import first_order, rate_limited, second_order
 from ..registry import register
 
-_IN = Port("in", S, "input signal", direction="in")
-_OUT = Port("out", S, "output signal", direction="out")
+_IN, _OUT = SIGNAL_IN, SIGNAL_OUT
 
 
 @register
