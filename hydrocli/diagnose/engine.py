@@ -22,7 +22,7 @@ from ..netlist.loader import load_netlist
 from . import accept, augment, baseline, locate, residuals, stats, workers
 from .candidates import Context, catalogue
 from .equations import equation_errors
-from .measurement import sensed_states, sensor_components, with_pressure_sensors
+from .measurement import sensed_states, with_pressure_sensors
 
 
 CONTROL = "control: current model, same budget"

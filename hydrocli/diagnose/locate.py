@@ -164,7 +164,7 @@ def whiteness(model: Model, exps, Ys, outputs: list[str], maxlag_s: float = 0.2)
     residual with each input (with the significance band 1.96/√n_eff)."""
     out = {}
     for o in outputs:
-        rs, lb, ne, xc = [], [], 0.0, {}
+        lb, ne, xc = [], 0.0, {}
         for e, Y in zip(exps, Ys):
             if o not in e.measured:
                 continue

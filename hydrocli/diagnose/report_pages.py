@@ -107,7 +107,7 @@ def _before_after(diag, exps, before, after, title):
                 if k == 0:
                     ax.legend(fontsize=7, ncol=3)
             elif k == 0:
-                ax.set_title(f"zoom: worst 2 s of the base model", fontsize=7)
+                ax.set_title("zoom: worst 2 s of the base model", fontsize=7)
     return fig
 
 
