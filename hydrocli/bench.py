@@ -198,7 +198,6 @@ def bench_scaling(sizes=(1, 10, 50), t_end: float = 5.0, repeat: int = 3, echo=p
 def bench_build(echo=print) -> dict:
     """Model build time: cold (empty cache: codegen + compile) and warm (cache hit)."""
     import os
-    from .solve import compiled as C
 
     with tempfile.TemporaryDirectory() as tmp:
         old = os.environ.get("HYDRO_CACHE_DIR")
@@ -215,7 +214,6 @@ def bench_build(echo=print) -> dict:
                 os.environ.pop("HYDRO_CACHE_DIR", None)
             else:
                 os.environ["HYDRO_CACHE_DIR"] = old
-    del C
     echo(f"Model build (load + build + compile): cold {times['cold']:.2f} s, warm cache {times['warm'] * 1e3:.0f} ms")
     return times
 

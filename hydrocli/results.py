@@ -19,6 +19,7 @@ import numpy as np
 from . import __version__
 from .errors import DataError, Location, Problem
 from .fileio import atomic_path
+from .units import si_unit
 
 
 @dataclass
@@ -49,7 +50,7 @@ def run_result(model, experiment, traj, p, command: str = "") -> RunResult:
                          for j in range(experiment.inputs.U.shape[1])]) if model.input_names else np.zeros((t.size, 0))
     units, disp = {}, {}
     for j, name in enumerate(model.input_names):
-        units[f"inputs/{name}"] = _si_unit(model.input_units.get(name, "1"))
+        units[f"inputs/{name}"] = si_unit(model.input_units.get(name, "1"))
         disp[f"inputs/{name}"] = model.input_units.get(name, "1")
     for name in model.output_names:
         units[f"outputs/{name}"] = units[f"measured/{name}"] = model.output_unit_si(name)
@@ -70,15 +71,6 @@ def run_result(model, experiment, traj, p, command: str = "") -> RunResult:
         parameters=[(pi.name, float(v), pi.unit) for pi, v in zip(model.params, p)],
         units=units, display_units=disp, solver_stats=dict(traj.stats),
         command=command or " ".join(sys.argv))
-
-
-def _si_unit(unit: str) -> str:
-    from .units import registry, parse_unit
-    try:
-        q = registry().Quantity(1.0, parse_unit(unit)).to_base_units()
-        return f"{q.units:~}".replace(" ", "") or "1"
-    except Exception:
-        return unit
 
 
 def write_result(path: str | Path, res: RunResult) -> None:

@@ -105,6 +105,16 @@ def to_si(value, expected_unit: str, *, default_unit: str | None = None,
     return number * factor
 
 
+def si_unit(unit: str, fallback: str | None = None) -> str:
+    """The SI (pint base-unit) form of ``unit``, e.g. "bar" → "kg/m/s**2", "%" → "1";
+    ``fallback`` (default: ``unit`` itself) when the unit cannot be parsed."""
+    try:
+        q = _registry.Quantity(1.0, parse_unit(unit)).to_base_units()
+    except Exception:
+        return unit if fallback is None else fallback
+    return f"{q.units:~}".replace(" ", "") or "1"
+
+
 def from_si(value: float, unit: str) -> float:
     """Convert an SI float to ``unit`` (for display)."""
     return value / si_factor(unit)

@@ -23,7 +23,7 @@ import re
 import numpy as np
 
 from ..errors import DataError, Location, Problem
-from ..units import si_factor, to_si
+from ..units import si_factor, si_unit, to_si
 
 KINDS = ("step", "ramp", "sine", "chirp", "table", "sum", "constant")
 
@@ -35,7 +35,7 @@ class SignalSpec:
         self.unit, self.loc = unit or "1", loc
 
     def value(self, x, what: str) -> float:
-        return to_si(x, _si_unit(self.unit), default_unit=self.unit, location=self.loc, what=what)
+        return to_si(x, si_unit(self.unit), default_unit=self.unit, location=self.loc, what=what)
 
     def time(self, x, what: str) -> float:
         return to_si(x, "s", location=self.loc, what=what)
@@ -141,16 +141,6 @@ class SignalSpec:
         if np.any(np.diff(tt) <= 0):
             self.fail("table times must be strictly increasing")
         return lambda t: np.interp(np.asarray(t, float), tt, vv)
-
-
-def _si_unit(unit: str) -> str:
-    """A unit with the same dimension in SI form (pint base units)."""
-    from ..units import parse_unit, registry
-    try:
-        q = registry().Quantity(1.0, parse_unit(unit)).to_base_units()
-        return f"{q.units}" if str(q.units) != "dimensionless" else "1"
-    except Exception:
-        return unit
 
 
 def signal(spec, unit: str = "1", loc: Location | None = None):

@@ -95,7 +95,7 @@ class StepsMixin:
 
 def dimensionality_unit(unit: str) -> str:
     """An SI unit string of the same dimension as ``unit`` (for to_si's dimension check)."""
-    from .signals import _si_unit
-    return _si_unit(unit) if dimensionality(unit) else unit
+    from ..units import si_unit
+    return si_unit(unit) if dimensionality(unit) else unit
 
 

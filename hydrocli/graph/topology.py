@@ -48,9 +48,7 @@ def node_equations(asm: Assembly, input_names: set[str], comp_names: set[str],
             problems.append(Problem(f"node '{node.name}' has the same name as a component",
                                     loc, "rename the node (e.g. 'n_" + node.name + "') so names stay unambiguous"))
             continue
-        if node.is_reference:
-            if node.capacitance or node.imposed:
-                pass  # the reference absorbs everything
+        if node.is_reference:  # the reference absorbs everything stamped on it
             continue
         dom = node.domain
         if dom == Domain.SIGNAL and node.name in input_names:

@@ -126,8 +126,6 @@ def _param_info(net: Netlist, name: str, value: float, unit: str) -> ParamInfo:
     spec = registry.get(decl.type).param(pname)
     pv = decl.params[pname]
     bounds = pv.bounds or spec.bounds
-    if "[" in name and bounds is None:
-        bounds = None
     return ParamInfo(name=name, value=value, unit=unit, bounds=bounds, free=pv.free, log=pv.log,
                      description=spec.description, display_unit=pv.unit,
                      min=spec.min, max=spec.max, positive=spec.positive)
@@ -148,9 +146,6 @@ class _Resolver:
             return E.param(name)
         if name in self.inputs:
             return E.input_(name)
-        node = self.asm.nodes.get(name)
-        if node is not None and node.domain == Domain.SIGNAL and name in self.asm.variables:
-            return E.var(name)
         return None
 
     def known(self):

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..units import si_unit
 from . import expr as E
 from .codegen import Equations, generate_c, generate_numpy
 
@@ -111,7 +112,7 @@ class Model:
                 return self.variable_units.get(n, "")
             if kind == "state":
                 return self.states[self.state_index(n)].unit
-        return self.output_units.get(name) and _si_of(self.output_units[name]) or ""
+        return self.output_units.get(name) and si_unit(self.output_units[name], fallback="") or ""
 
     # -- generated code --------------------------------------------------------------
     @property
@@ -150,13 +151,3 @@ class Model:
 
     def describe_expr(self, e: E.Expr) -> str:
         return E.to_python(e)
-
-
-def _si_of(unit: str) -> str:
-    from ..units import registry
-    from ..units import parse_unit
-    try:
-        q = registry().Quantity(1.0, parse_unit(unit)).to_base_units()
-        return f"{q.units:~}".replace(" ", "")
-    except Exception:
-        return ""
