@@ -112,6 +112,8 @@ class DataError(HydroError):
 class SolverError(HydroError):
     exit_code = 4
     kind = "solver failure"
+    #: the trajectory up to the failure (samples before the time reached), when known
+    partial = None
 
 
 class IdentifyError(HydroError):

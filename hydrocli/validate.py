@@ -223,14 +223,14 @@ def _resolve(model, e):
 
 # -- the two entry points -------------------------------------------------------------------
 def validate_machine(machine, experiments, th: Thresholds, sets=None, opts=None, on_result=None) -> Verdict:
-    """Simulate each experiment with the machine's nominal parameters and score it."""
+    """Simulate each experiment (every one of a multi-experiment file; ``file.yaml#name``
+    picks one) with the machine's nominal parameters and score it."""
     from .runner import load_machine, simulate_experiment
-    from .experiments.experiment import load_experiment
+    from .experiments.experiment_file import load_all
     _, model = load_machine(machine, sets)
     check_outputs(th, model.output_names)
     verdict = Verdict(model.name, notes=[f"warning: {w}" for w in model.warnings])
-    for path in experiments:
-        exp = load_experiment(path, model)
+    for exp in (e for path in experiments for e in load_all(path, model)):
         derived = derive_measured(model, exp.measured)
         exp.measured.update(derived)
         if derived:

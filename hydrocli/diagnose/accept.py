@@ -6,8 +6,12 @@
    by more than the measurement-noise floor (``stats.noise_esr``) AND by at least
    ``MIN_REL`` of the base model's validation error above that floor (``MIN_REL_LATER`` for a
    second or third effect);
-3. every new parameter is plausible (inside its plausibility range, not at a bound) and
-   well determined (inflated standard error < ``MAX_REL_SE`` of the value).
+3. every new parameter is plausible (inside its plausibility range, not at a bound), and
+   the primary ones — those that say how large the effect is — are well determined (inflated
+   standard error < ``MAX_REL_SE`` of the effect's size). Companion parameters (a stop's
+   contact stiffness, a compliance's damping) shape the effect; the data often bound them
+   from one side only (any stop stiffer than needed fits alike), so they must be plausible
+   but need not be precise.
 """
 from __future__ import annotations
 
@@ -53,12 +57,13 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
     for p in cand.params:
         v, s = est[p.name], se[p.name]
         at_bound = _at_bound(v, p.bounds, p.log)
-        inside = p.plausible[0] <= abs(v - p.ref) <= p.plausible[1]
+        size = abs(v - p.ref)
+        inside = p.plausible[0] <= (v if p.scale else size) <= p.plausible[1]
         plausible_any |= inside and p.primary
         if at_bound and inside:
             reasons.append(f"{p.name} ended at a bound ({v:.3g})")
-        dev = abs(v - p.ref)
-        if inside and np.isfinite(s) and dev > 0 and s / dev > MAX_REL_SE:
+        dev = p.scale or size
+        if p.primary and inside and np.isfinite(s) and dev > 0 and s / dev > MAX_REL_SE:
             reasons.append(f"{p.name} poorly determined (±{100 * s / dev:.0f} % of its effect)")
     if not plausible_any:
         vals = ", ".join(f"{p.name} = {est[p.name]:.3g}" for p in cand.params if p.primary)

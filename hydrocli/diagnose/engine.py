@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..experiments.experiment import load_experiment
+from ..experiments.experiment_file import load_all
 from ..model.builder import build_model
 from ..netlist.loader import load_netlist
 from . import accept, augment, baseline, locate, residuals, stats, workers
@@ -70,7 +70,9 @@ def _log(progress, msg):
 
 
 def load_data(model, net, paths):
-    exps = [load_experiment(p, model) for p in paths]
+    """Every experiment the paths name (all of a multi-experiment file, as in identify);
+    states read by a modelled sensor start from the sensor's first sample."""
+    exps = [e for p in paths for e in load_all(p, model)]
     sensed = sensed_states(net)
     from .equations import measured_states
     for e in exps:
@@ -96,7 +98,8 @@ def _position_ranges(model, exps, Ys) -> dict:
     out = {}
     for o, k in locate.output_quantities(model).items():
         if k == "position":
-            vals = np.concatenate([e.measured[o] for e in exps if o in e.measured] or [np.zeros(1)])
+            vals = np.concatenate([e.measured[o][residuals.used(e, o)] for e in exps if o in e.measured]
+                                  or [np.zeros(1)])
             for s in augment.output_symbols_expr(model, o):
                 out[s] = (float(np.min(vals)), float(np.max(vals)))
     return out

@@ -22,6 +22,7 @@ from scipy import signal
 
 from ..model.model import Model
 from . import stats
+from .residuals import used
 
 REGIME_SPEED = 0.05      # low speed: |v| below 5 % of its 99th percentile
 REGIME_COMMAND = 0.05    # small command: |u| below 5 % of its 99th percentile
@@ -111,7 +112,7 @@ def locate(model: Model, exps, Ys, outputs: list[str], window_s: float = 0.5) ->
                 continue
             y = e.measured[o]
             r = (Y[:, model.output_names.index(o)] - y) / (np.std(y) or 1.0)
-            r = np.where(np.isfinite(r), r, 0.0)
+            r = np.where(np.isfinite(r) & used(e, o), r, 0.0)
             energy = r ** 2 / r.size
             by_output[o] = by_output.get(o, 0.0) + float(energy.sum())
             total += float(energy.sum())
@@ -150,8 +151,10 @@ BANDS = ((0.0, 2.0), (2.0, 10.0), (10.0, 50.0), (50.0, np.inf))
 def _bands(spectra) -> dict:
     out = {}
     for o, items in spectra.items():
-        f = items[0][0]
-        P = np.mean([p for _, p in items], axis=0)
+        # experiments of different lengths or rates give different Welch grids: average the
+        # densities on the coarsest one
+        f = min((fi for fi, _ in items), key=len)
+        P = np.mean([np.interp(f, fi, pi) for fi, pi in items], axis=0)
         tot = float(P.sum()) or 1.0
         bands = {f"{lo:g}-{hi:g} Hz": float(P[(f >= lo) & (f < hi)].sum() / tot) for lo, hi in BANDS}
         out[o] = {"bands": bands, "peak_hz": float(f[1:][np.argmax(P[1:])]) if f.size > 1 else 0.0,
@@ -169,7 +172,7 @@ def whiteness(model: Model, exps, Ys, outputs: list[str], maxlag_s: float = 0.2)
             if o not in e.measured:
                 continue
             r = Y[:, model.output_names.index(o)] - e.measured[o]
-            r = np.where(np.isfinite(r), r, 0.0)
+            r = np.where(np.isfinite(r) & used(e, o), r, 0.0)
             q, p = stats.ljung_box(r, 20)
             lb.append(p)
             ne += stats.effective_n(r)

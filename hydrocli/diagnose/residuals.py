@@ -21,14 +21,33 @@ def objective(model: Model, exps: list[Experiment], outputs: list[str]) -> Objec
 
 
 def simulate_outputs(model: Model, exps: list[Experiment], p: np.ndarray) -> list[np.ndarray]:
-    """Y (samples × outputs) per experiment; NaN rows when the solver fails."""
+    """Y (samples × outputs) per experiment. When the solver stops early (a model leaving
+    its valid range, e.g. a piston without end stops emptying a chamber), the outputs are
+    held at their last computed value: the model is scored on what it predicted, so an
+    effect that lets it run through is measured against a finite, honest baseline. NaN
+    rows only when nothing was computed."""
     out = []
     for e in exps:
         try:
             out.append(simulate(model, e.inputs, e.t_out, p=p, x0=e.x0(model), opts=OPTS).Y)
-        except HydroError:
-            out.append(np.full((e.t_out.size, len(model.output_names)), np.nan))
+        except HydroError as exc:
+            out.append(held_after_failure(getattr(exc, "partial", None), e.t_out.size, len(model.output_names)))
     return out
+
+
+def held_after_failure(partial, n: int, n_out: int) -> np.ndarray:
+    """n × n_out outputs from a partial trajectory, its last row held to the end."""
+    Y = np.full((n, n_out), np.nan)
+    if partial is not None and len(partial.Y):
+        k = min(len(partial.Y), n)
+        Y[:k] = partial.Y[:k]
+        Y[k:] = partial.Y[k - 1]
+    return Y
+
+
+def used(e: Experiment, o: str) -> np.ndarray:
+    """Samples of output o that count: the experiment's mask (sensor clipping, windows)."""
+    return e.mask.get(o, np.ones(e.t_out.size, dtype=bool))
 
 
 def esr_table(model: Model, exps: list[Experiment], Ys: list[np.ndarray], outputs: list[str]) -> dict[str, float]:
@@ -37,7 +56,8 @@ def esr_table(model: Model, exps: list[Experiment], Ys: list[np.ndarray], output
     for e, Y in zip(exps, Ys):
         for o in outputs:
             if o in e.measured:
-                vals[o].append(esr(e.measured[o], Y[:, model.output_names.index(o)]))
+                m = used(e, o)
+                vals[o].append(esr(e.measured[o][m], Y[m, model.output_names.index(o)]))
     return {o: float(np.mean(v)) if v else float("nan") for o, v in vals.items()}
 
 
@@ -46,12 +66,12 @@ def total(table: dict[str, float]) -> float:
 
 
 def residual_series(model: Model, exps: list[Experiment], Ys: list[np.ndarray], outputs: list[str]):
-    """{(experiment index, output): ŷ − y} in SI."""
+    """{(experiment index, output): ŷ − y} in SI (0 where the experiment masks the output)."""
     out = {}
     for i, (e, Y) in enumerate(zip(exps, Ys)):
         for o in outputs:
             if o in e.measured:
-                out[(i, o)] = Y[:, model.output_names.index(o)] - e.measured[o]
+                out[(i, o)] = np.where(used(e, o), Y[:, model.output_names.index(o)] - e.measured[o], 0.0)
     return out
 
 

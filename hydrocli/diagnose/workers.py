@@ -54,7 +54,7 @@ def _log_grid(params, n: int = 4) -> list[dict]:
     closed orifice, a zero-lap spool) has no gradient to follow, and re-identified base
     parameters may already mimic a small effect, so the optimiser must be offered starts
     where the effect is fully visible."""
-    grid = [p for p in params if p.primary and p.ref == 0 and p.plausible[0] > 0]
+    grid = [p for p in params if p.primary and p.ref == 0 and not p.scale and p.plausible[0] > 0]
     if not grid:
         return []
     out = []

@@ -79,7 +79,10 @@ def _run_compiled(model, lib, inputs, t_out, p, x0, opts) -> Trajectory:
                        rtol=opts.rtol, atol=atol_vector(model, opts), hmax=opts.max_step,
                        max_steps=opts.max_steps)
     if res.status != 0:
-        raise _solver_error(model, res.status, res.stats, res.message)
+        err = _solver_error(model, res.status, res.stats, res.message)
+        n_ok = int(np.searchsorted(t_out, res.stats.get("time_reached", t_out[0]), side="right"))
+        err.partial = Trajectory(t_out[:n_ok], res.X[:n_ok], res.Y[:n_ok], dict(res.stats, backend="compiled"))
+        raise err
     return Trajectory(t_out, res.X, res.Y, dict(res.stats, backend="compiled"))
 
 

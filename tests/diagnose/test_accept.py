@@ -34,3 +34,24 @@ def test_rejects_implausible_or_undetermined_parameter():
 def test_rejects_when_bic_does_not_improve():
     v = accept.judge(_cand(), _fit(1200.0, 50.0, 0.999), ssr0=1.0, n_eff=50, val0=10.0, val1=2.0, noise=0.2)
     assert not v["passed"] and v["delta_bic"] > 0
+
+
+def _stop(x_min, se_min, k_se):
+    """An end-stop candidate seen over a 0..0.19 m stroke: positions judged against the stroke,
+    the contact stiffness a companion."""
+    span = 0.19
+    params = [NewParam("c.x_min", -0.04, (-0.1, 0.004), (-0.1, 0.004), -0.001, scale=span),
+              NewParam("c.x_max", 0.23, (0.186, 0.29), (0.186, 0.29), 0.191, scale=span),
+              NewParam("c.k_stop", 1e8, (1e6, 1e11), (1e6, 1e11), 3e8, True, primary=False)]
+    fit = {"names": ["c.x_min", "c.x_max", "c.k_stop"], "estimates": [x_min, 0.199, 5e9],
+           "stderr": [se_min, 0.004, k_se], "cost": 0.1}
+    return accept.judge(Candidate("end_stop", "c", params, lambda n: n, "force", "t"), fit, 1.0, 100, 100.0, 1.0, 0.5)
+
+
+def test_stop_positions_are_judged_against_the_stroke_and_stiffness_is_a_companion():
+    # x_min = −0.5 ± 1 mm is a stop AT the retracted end, known to 0.5 % of the stroke, and a hard stop's
+    # stiffness (5e9 ± 7e9 N/m) is only bounded from below by the data: both acceptable
+    assert _stop(-0.0005, 0.001, 7e9)["passed"]
+    # a stop position uncertain by half the stroke is not
+    vague = _stop(-0.0005, 0.12, 7e9)
+    assert not vague["passed"] and any("x_min poorly determined" in r for r in vague["reasons"])

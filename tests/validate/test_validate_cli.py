@@ -87,3 +87,19 @@ def test_bad_inputs_exit_codes(tmp_path, validated):
     assert hydro("validate", "--results", d / "runs" / "validate.h5", "--max-esr", "dq=3").exit_code == 3
     assert hydro("validate", "--results", d / "runs" / "validate.h5", "--max-esr", "dp").exit_code == 2
     assert hydro("validate").exit_code == 2
+
+
+def test_a_multi_experiment_file_validates_every_experiment(tmp_path):
+    """Like identify and diagnose, validate takes all experiments of a file (two windows of one
+    recording here); FILE#NAME still picks one."""
+    exp = tmp_path / "two.yaml"
+    exp.write_text(f"data: {VALIDATE_CSV}\ninputs: {{u: u, Ps: Ps, Fext: Fext}}\noutputs: {{P1: P1, P2: P2, v: v}}\n"
+                   "experiments:\n  - {name: first, window: [0 s, 5 s]}\n"
+                   "  - {name: second, window: [5 s, 10 s]}\n")
+    r = hydro("validate", MACHINE, "-e", exp, "--max-esr", "dp=50", "--markdown", tmp_path / "all.md")
+    assert r.exit_code == 0, r.output
+    md = (tmp_path / "all.md").read_text()
+    assert "| first | dp |" in md and "| second | dp |" in md
+    r = hydro("validate", MACHINE, "-e", f"{exp}#second", "--max-esr", "dp=50", "--markdown", tmp_path / "one.md")
+    md = (tmp_path / "one.md").read_text()
+    assert r.exit_code == 0 and "| second |" in md and "| first |" not in md

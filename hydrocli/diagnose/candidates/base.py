@@ -32,11 +32,14 @@ class NewParam:
     name: str                              # model parameter name after augmentation
     start: float                           # effect off (or negligible)
     bounds: tuple[float, float]            # identification bounds (SI)
-    plausible: tuple[float, float]         # physically plausible |value| range for acceptance
+    plausible: tuple[float, float]         # physically plausible |value − ref| range for acceptance
     probe: float                           # value of the screening secant
     log: bool | None = None
     primary: bool = True                   # False: a companion parameter (acceptance looks at primaries)
     ref: float = 0.0                       # value meaning "no effect": plausibility is judged on |value − ref|
+    scale: float = 0.0                     # > 0: a position-like parameter with no "off" value (a stop):
+                                           # ``plausible`` bounds the value itself and the standard error
+                                           # is judged against this length (the stroke seen), not |value − ref|
 
 
 @dataclass

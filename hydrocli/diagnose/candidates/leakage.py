@@ -47,13 +47,15 @@ class CylinderFamily(Family):
             return Skipped("end_stop", f"no position range of '{cyl}' seen in the data")
         lo, hi = rng
         span = max(hi - lo, 1e-3)
+        # stop positions have no "off" value: judged as positions (plausible range of the value,
+        # standard error against the stroke seen)
         params = [NewParam(f"{cyl}.x_min", lo - 0.2 * span, (lo - 0.5 * span, lo + 0.02 * span),
-                           (lo - 0.5 * span, lo + 0.02 * span), lo - 0.005 * span),
+                           (lo - 0.5 * span, lo + 0.02 * span), lo - 0.005 * span, scale=span),
                   NewParam(f"{cyl}.x_max", hi + 0.2 * span, (hi - 0.02 * span, hi + 0.5 * span),
-                           (hi - 0.02 * span, hi + 0.5 * span), hi + 0.005 * span),
+                           (hi - 0.02 * span, hi + 0.5 * span), hi + 0.005 * span, scale=span),
                   # contact stiffness identified too (log scale): a real stop (Hertz/Hunt–Crossley
                   # contact) is far from one fixed linear spring
-                  NewParam(f"{cyl}.k_stop", 1e8, (1e6, 1e11), (1e6, 1e11), 3e8, True, primary=False)]
+                  NewParam(f"{cyl}.k_stop", 1e8, (1e5, 1e11), (1e5, 1e11), 3e8, True, primary=False)]
         return self.parameter_candidate(ctx, "end_stop", cyl, params, "force",
                                         "stiff end stops at the stroke ends", fixed={f"{cyl}.c_stop": 1e4})
 

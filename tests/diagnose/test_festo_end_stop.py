@@ -1,0 +1,32 @@
+"""Issue 6 on real data: from the Festo TP511 machine WITHOUT end stops, diagnose finds
+`end_stop` in the rig's recordings (../shared/real/festo_tp511), places the extended stop at
+the rig's 200 mm stroke (its README) and cuts the held-out pressure error. Train: extension
+to the stop at 2 and 3 V; validate: 4 and 5 V (experiments/festo/end_stop_*.yaml)."""
+from pathlib import Path
+
+import pytest
+
+from hydrocli.diagnose import Settings, diagnose
+from hydrocli.diagnose.summary import write_augmented
+from hydrocli.netlist.loader import load_netlist
+
+ROOT = Path(__file__).parents[2]
+DATA = ROOT.parent / "shared" / "real" / "festo_tp511"
+EXP = ROOT / "experiments" / "festo"
+
+
+@pytest.mark.skipif(not DATA.is_dir(), reason="shared Festo recordings not available")
+def test_diagnose_finds_the_end_stop_on_the_real_festo_rig(tmp_path, monkeypatch):
+    monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path / "cache"))
+    d = diagnose(ROOT / "machines" / "festo_tp511_no_endstops.yaml", [EXP / "end_stop_train.yaml"],
+                 [EXP / "end_stop_validate.yaml"], Settings(max_effects=1, jobs=2))
+    assert d.data["effects"] == ["end_stop"]
+    acc = d.data["accepted"][0]
+    x_max = next(p for p in acc["parameters"] if p["name"].endswith("x_max"))
+    assert 0.19 < x_max["value"] < 0.21                         # the rig's 0.2 m stroke (± 5 %)
+    before, after = acc["esr_validation_before"], acc["esr_validation_after"]
+    assert all(v == v for v in before.values())                 # a runaway piston still scores (no NaN)
+    assert after["pA"] < 0.1 * before["pA"] and after["x"] < before["x"]
+    write_augmented(d, tmp_path / "augmented.yaml")
+    cyl = load_netlist(tmp_path / "augmented.yaml").components["cylinder"]
+    assert "x_max" in cyl.params and "k_stop" in cyl.params
