@@ -94,6 +94,11 @@ def _n_eff(model, exps, Ys, outputs) -> float:
                      residuals.residual_series(model, exps, Ys, outputs).values()))
 
 
+def _inputs_start(model, exps) -> dict:
+    """Each machine input's value at the start, averaged over the training experiments."""
+    return {n: float(np.mean([e.inputs.U[0, j] for e in exps])) for j, n in enumerate(model.input_names)}
+
+
 def _position_ranges(model, exps, Ys) -> dict:
     out = {}
     for o, k in locate.output_quantities(model).items():
@@ -132,7 +137,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
     stage, accepted, ranking, skipped_all, history = base, [], [], [], []
     for round_ in range(st.max_effects):
         ctx = Context(stage.net, set(stage.free), _position_ranges(stage.model, train, stage.Y_train),
-                      locate.output_quantities(stage.model))
+                      locate.output_quantities(stage.model), _inputs_start(stage.model, train))
         cands, skipped = catalogue(ctx)
         done = {a["key"] for a in accepted}
         cands = [c for c in cands if c.key not in done and c.effect not in {a["effect"] for a in accepted}

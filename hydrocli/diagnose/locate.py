@@ -27,6 +27,7 @@ from .residuals import used
 REGIME_SPEED = 0.05      # low speed: |v| below 5 % of its 99th percentile
 REGIME_COMMAND = 0.05    # small command: |u| below 5 % of its 99th percentile
 AFTER_STOP_S = 0.3
+REVERSAL_GAP_S = 0.5     # direction reversal: opposite motions less than this apart
 
 
 def quantity(unit: str) -> str:
@@ -53,7 +54,7 @@ def regimes(model: Model, exp, kinds: dict[str, str]) -> dict[str, np.ndarray]:
         out["moving +"] = (vs > 0) & ~slow
         out["moving −"] = (vs < 0) & ~slow
         out["low speed"] = slow
-        out["direction reversal"] = _near(np.flatnonzero(np.diff(np.sign(vs)) != 0), n, int(0.05 / _dt(t)))
+        out["direction reversal"] = _near(_reversals(vs, slow, t), n, int(0.05 / _dt(t)))
         starts = np.flatnonzero(slow[:-1] & ~slow[1:])
         out["after stops"] = _after(starts, n, int(AFTER_STOP_S / _dt(t)))
     if pos is not None:
@@ -73,6 +74,18 @@ def regimes(model: Model, exp, kinds: dict[str, str]) -> dict[str, np.ndarray]:
         out["high pressure"] = level > med
         out["low pressure"] = level <= med
     return {k: v for k, v in out.items() if v.any() and not v.all()}
+
+
+def _reversals(vs, slow, t, max_gap_s: float = REVERSAL_GAP_S) -> np.ndarray:
+    """Samples where the motion turns: moving one way, then the other within ``max_gap_s``
+    (sign flips of sensor noise at a standstill are not reversals)."""
+    moving = np.flatnonzero(~slow)
+    if moving.size < 2:
+        return np.zeros(0, dtype=int)
+    sgn = np.sign(vs[moving])
+    turn = np.flatnonzero((sgn[1:] != sgn[:-1]) & (t[moving[1:]] - t[moving[:-1]] < max_gap_s))
+    return np.unique(np.concatenate([np.arange(moving[k], moving[k + 1] + 1) for k in turn])) if turn.size \
+        else np.zeros(0, dtype=int)
 
 
 def _dt(t):

@@ -13,6 +13,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.backends.backend_pdf import PdfPages  # noqa: E402
 
+from ..errors import HydroError  # noqa: E402
+from ..units import si_factor  # noqa: E402
+
 A4 = (8.27, 11.69)
 
 
@@ -92,9 +95,10 @@ def _before_after(diag, exps, before, after, title):
     gs = fig.add_gridspec(len(outs), 3, hspace=0.35, wspace=0.3)
     worst = _worst_window(e, Yb, diag)
     for k, o in enumerate(outs):
-        y = e.measured[o]
-        yb = Yb[:, diag.base.model.output_names.index(o)]
-        ya = Ya[:, diag.final.model.output_names.index(o)]
+        f, unit = _display(diag.final.model, o)
+        y = e.measured[o] / f
+        yb = Yb[:, diag.base.model.output_names.index(o)] / f
+        ya = Ya[:, diag.final.model.output_names.index(o)] / f
         for col, span in ((slice(0, 2), None), (2, worst)):
             ax = fig.add_subplot(gs[k, col])
             m = slice(None) if span is None else (e.t_out >= span[0]) & (e.t_out <= span[1])
@@ -103,12 +107,21 @@ def _before_after(diag, exps, before, after, title):
             ax.plot(e.t_out[m], ya[m], lw=0.7, ls="--", label="augmented")
             ax.tick_params(labelsize=6)
             if span is None:
-                ax.set_ylabel(f"{o} [{diag.final.model.output_unit_si(o) or '-'}]", fontsize=8)
+                ax.set_ylabel(f"{o} [{unit}]", fontsize=8)
                 if k == 0:
                     ax.legend(fontsize=7, ncol=3)
             elif k == 0:
                 ax.set_title("zoom: worst 2 s of the base model", fontsize=7)
     return fig
+
+
+def _display(model, o: str) -> tuple[float, str]:
+    """(SI per display unit, display unit) of an output: the machine file's unit (bar, mm)."""
+    unit = model.output_units.get(o) or ""
+    try:
+        return (si_factor(unit), unit) if unit else (1.0, model.output_unit_si(o) or "-")
+    except HydroError:
+        return 1.0, model.output_unit_si(o) or "-"
 
 
 def _worst_window(e, Yb, diag, width=2.0):

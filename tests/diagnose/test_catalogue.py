@@ -52,3 +52,19 @@ def test_every_candidate_builds_and_simulates(eha):
             assert p.name in model.free_params, (c.key, p.name)
         tr = simulate(model, InputTable(t, U), t, opts=SolverOptions(rtol=1e-5))
         assert np.all(np.isfinite(tr.Y)), c.key
+
+
+def test_supply_drop_is_sized_from_the_valve_and_starts_at_the_supply_pressure(eha):
+    """The supply restriction starts with no effect (in series with the valve, the drop
+    across it is (Kv/K_s)² = 0.1 % of the valve's), a truth-like K_s = Kv/2 lies inside its
+    plausible range, and its new volume starts at the supply pressure the data start with
+    (no filling transient from tank pressure)."""
+    net, ctx = eha
+    ctx = Context(ctx.net, ctx.free, ctx.position_range, ctx.outputs, {"Ps": 100e5, "u": 0.0, "Fext": 0.0})
+    c = next(c for c in catalogue(ctx)[0] if c.effect == "supply_pressure_drop")
+    kv = ctx.value("valve.Kv")
+    orifice = c.params[0]
+    assert orifice.start == pytest.approx(30 * kv) and orifice.plausible[0] < kv / 2 < orifice.plausible[1]
+    model = build_model(c.build(net))
+    x0 = model.x0
+    assert x0[model.state_index("supply_line.p")] == pytest.approx(100e5)

@@ -72,6 +72,7 @@ class Context:
     free: set[str]                                          # parameters free in the base model
     position_range: dict[str, tuple[float, float]] = field(default_factory=dict)  # node → (min, max) m
     outputs: dict[str, str] = field(default_factory=dict)   # output → quantity ("pressure", "position", …)
+    inputs_start: dict[str, float] = field(default_factory=dict)  # input → first sample (mean over training)
 
     def of_type(self, *prefixes: str) -> list[str]:
         return [n for n, c in self.net.components.items() if any(c.type.startswith(p) for p in prefixes)]

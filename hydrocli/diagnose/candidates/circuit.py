@@ -50,31 +50,70 @@ class CircuitFamily(Family):
 
     @staticmethod
     def _supply(ctx: Context, valve: str, node: str | None):
+        """Supply line restriction (clogged filter, thin line: turbulent orifice) with the oil
+        and accumulator capacity behind it at the valve's P port. Sized from the valve's own
+        flow coefficient: the drop is (Kv_valve/Kv_supply)² of the valve's, so the orifice
+        starts at 30× Kv_valve (drop 0.1 %, no effect) and is probed at 1.5× (drop ~45 %)."""
         if node is None:
             return Skipped("supply_pressure_drop", f"'{valve}' has no supply port")
         src = [c for c, _ in ctx.on_node(node) if ctx.net.components[c].type == "pressure_source"]
         if not src:
             return Skipped("supply_pressure_drop", f"no pressure source at the supply of '{valve}'")
+        kv = _valve_kv(ctx, valve)
         orf = A.unique_name(ctx.net, "supply_orifice")
         vol = A.unique_name(ctx.net, "supply_volume")
         new = A.unique_name(ctx.net, f"{node}_source")
+        params = [NewParam(f"{orf}.Kv", 30 * kv, (0.03 * kv, 100 * kv), (0.1 * kv, 10 * kv), 1.5 * kv, True),
+                  # line oil + any accumulator: an equivalent oil volume (log scale), a companion
+                  NewParam(f"{vol}.V", 1e-3, (1e-5, 2e-2), (1e-5, 2e-2), 2e-3, True, primary=False)]
+        p_start = _source_pressure(ctx, src[0])
 
         def build(net):
             net = A.connect(net, src[0], "P", new)
             net = A.add(net, orf, "orifice", {"A": new, "B": node})
-            net = A.add(net, vol, "volume", {"P": node}, {"V": 1e-4})
-            net = A.free(net, f"{orf}.Kv", 1e-5, (1e-7, 1e-4), True)
-            return net
-        return Candidate("supply_pressure_drop", src[0], [NewParam(f"{orf}.Kv", 1e-5, (1e-7, 1e-4), (1e-7, 5e-6), 2e-6, True)],
-                         build, "continuity", f"pressure drop in the supply line of '{valve}' (orifice + volume)")
+            net = A.add(net, vol, "volume", {"P": node}, {"V": 1e-3})
+            for prm in params:
+                net = A.free(net, prm.name, prm.start, prm.bounds, prm.log)
+            return _initial_values(net, {f"{node}.p": p_start}) if p_start else net
+        return Candidate("supply_pressure_drop", src[0], params, build, "continuity",
+                         f"pressure drop in the supply line of '{valve}' (turbulent restriction + line/accumulator volume)")
+
+
+def _valve_kv(ctx: Context, valve: str) -> float:
+    """The valve's flow coefficient per edge (SI), or a mid-size valve's when not readable."""
+    for name in ("Kv", "Kv_A"):
+        try:
+            return ctx.value(f"{valve}.{name}")
+        except (KeyError, TypeError, ValueError):
+            continue
+    return 5e-7
+
+
+def _source_pressure(ctx: Context, src: str) -> float | None:
+    """The source's pressure at the start: its input's first sample, or its parameter."""
+    ref = ctx.net.components[src].ports.get("ref")
+    if ref is not None:
+        return ctx.inputs_start.get(ref)
+    try:
+        return ctx.value(f"{src}.p")
+    except (KeyError, TypeError, ValueError):
+        return None
+
+
+def _initial_values(net, values: dict):
+    """The machine with these ``initial:`` entries set (values in SI or with units)."""
+    if not values:
+        return net
+    from ...netlist import yamldoc as Y
+    doc = Y.load_text(Y.dump_text(net.doc), net.file)
+    if doc.get("initial") is None:
+        doc["initial"] = {}
+    for k, v in values.items():
+        doc["initial"][k] = float(v) if isinstance(v, (int, float)) else v
+    return A.reload(net, Y.dump_text(doc))
 
 
 def _initial_like(net, pairs):
-    from ...netlist import yamldoc as Y
-    doc = Y.load_text(Y.dump_text(net.doc), net.file)
-    init = doc.get("initial")
-    if init is not None:
-        for new, old in pairs:
-            if f"{old}.p" in init:
-                init[f"{new}.p"] = init[f"{old}.p"]
-    return A.reload(net, Y.dump_text(doc))
+    """New nodes start like the node they were split from (its ``initial`` entry, if any)."""
+    init = net.doc.get("initial") or {}
+    return _initial_values(net, {f"{new}.p": init[f"{old}.p"] for new, old in pairs if f"{old}.p" in init})
