@@ -4,7 +4,7 @@ from __future__ import annotations
 from ...model import expr as E
 from ..base import Component, H, Param, Port, T, VariableSpec
 from ..registry import register
-from .fluid import effective_bulk_modulus
+from .fluid import AIR_PARAMS, oil_bulk_modulus
 
 
 #: a chamber compressed below this fraction of its x = 0 volume means the piston has left
@@ -34,9 +34,8 @@ def _cylinder_equations(c, area_a, area_b):
                        "x_min/x_max) or check V_A0, the command and the load")
     c.guard(vb <= VOLUME_FLOOR * p.V_B0, "chamber B collapsed below 1 % of its volume at x = 0 (stroke overrun): add end stops (k_stop > 0, "
                        "x_min/x_max) or check V_B0, the command and the load")
-    air = p.air if c.active("air") else 0.0
-    c.capacitance("A", va / effective_bulk_modulus(p.beta, pa, air))
-    c.capacitance("B", vb / effective_bulk_modulus(p.beta, pb, air))
+    c.capacitance("A", va / oil_bulk_modulus(c, pa))
+    c.capacitance("B", vb / oil_bulk_modulus(c, pb))
     q_il = c.let("q_il", (p.c_il if c.active("c_il") else 0.0) * (pa - pb))
     c_el = p.c_el if c.active("c_el") else 0.0
     c.through("A", area_a * v + q_il + c_el * (pa - p.p_drain))
@@ -54,7 +53,7 @@ _COMMON = (
     Param("V_B0", "m^3", 6.75e-4, "chamber B volume at x = 0", source="seed 004 eq. 5 (V_20)", positive=True,
           bounds=(1e-6, 1e-2)),
     Param("beta", "Pa", 1.5e9, "oil bulk modulus", fluid="beta", positive=True, bounds=(1e8, 2.5e9)),
-    Param("air", "1", 0.0, "entrained air volume fraction at 1 bar", min=0.0, max=0.5, bounds=(0.0, 0.1)),
+    *AIR_PARAMS,
     Param("c_il", "m^3/s/Pa", 0.0, "internal (cross-piston) leakage coefficient", source="seed 004 eq. 4",
           min=0.0, bounds=(0.0, 1e-10)),
     Param("c_el", "m^3/s/Pa", 0.0, "external leakage coefficient of each chamber", source="seed 004 eq. 4",

@@ -2,20 +2,44 @@
 from __future__ import annotations
 
 from ...model import expr as E
+from ..base import Param
 
 P_ATM = 1.0e5
 KAPPA = 1.4
 
 
-def effective_bulk_modulus(beta, p, air):
-    """Bulk modulus of oil with entrained air (volume fraction ``air`` at 1 bar).
+def effective_bulk_modulus(beta, p, air, n=KAPPA, p_dissolve=None):
+    """Bulk modulus of oil with entrained air (free-air volume fraction ``air`` at 1 bar).
 
-    β_e = β·(1 + α(p₀/p)^(1/κ)) / (1 + α(p₀/p)^(1/κ)·β/(κ p)), the usual isentropic
-    air-in-oil mixture (Merritt; Jelali & Kroll eq. 3.12); reduces to β when α = 0.
-    The pressure is floored at 0.1 bar so the law stays finite.
+    β_e = β·(1 + r) / (1 + r·β/(n·p)), r = α·(p₀/p)^(1/n)·d(p): the air-in-oil mixture of
+    Merritt and Jelali & Kroll eq. 3.12 with a polytropic exponent n (1.4 isentropic: fast
+    compression; 1 isothermal: small bubbles that exchange heat) and, when ``p_dissolve`` is
+    given, Henry's-law dissolution of the free air, d = 1 − (p − p₀)/(p_dissolve − p₀) down to
+    0 at p_dissolve (Gholizadeh, Burton & Schoenau 2011, Int. J. Fluid Power 12(3), §4). With
+    α' = r/(1 + r): 1/β_e = (1 − α')/β + α'/(n·p). Reduces to β when α = 0; p floored at 0.1 bar.
     """
     if isinstance(air, (int, float)) and air == 0:
         return beta
     pp = E.fmax(p, 1e4)
-    r = air * E.power(P_ATM / pp, 1.0 / KAPPA)
-    return beta * (1.0 + r) / (1.0 + r * beta / (KAPPA * pp))
+    r = air * E.power(P_ATM / pp, 1.0 / n)
+    if p_dissolve is not None:
+        r = r * E.smooth_pos(1.0 - (pp - P_ATM) / (p_dissolve - P_ATM), 1e-3)
+    return beta * (1.0 + r) / (1.0 + r * beta / (n * pp))
+
+
+#: the oil-and-air parameters of every component that holds oil in a volume (spec as data)
+AIR_PARAMS = (
+    Param("air", "1", 0.0, "entrained (free) air volume fraction at 1 bar", min=0.0, max=0.5, bounds=(0.0, 0.1)),
+    Param("air_n", "1", KAPPA, "polytropic exponent of the air: 1.4 isentropic, 1 isothermal", min=1.0, max=1.4,
+          bounds=(1.0, 1.4)),
+    Param("p_dissolve", "Pa", 0.0, "pressure at which the free air has dissolved (Henry's law); 0 = never",
+          min=0.0, bounds=(2e5, 5e7)),
+)
+
+
+def oil_bulk_modulus(c, p):
+    """β_e at pressure p of a component declaring ``beta`` and :data:`AIR_PARAMS`."""
+    if not c.active("air"):
+        return c.p.beta
+    return effective_bulk_modulus(c.p.beta, p, c.p.air, c.p.air_n,
+                                  c.p.p_dissolve if c.active("p_dissolve") else None)

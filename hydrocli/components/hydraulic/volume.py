@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from ..base import Component, H, Param, Port
 from ..registry import register
-from .fluid import effective_bulk_modulus
+from .fluid import AIR_PARAMS, oil_bulk_modulus
 
 
 @register
@@ -18,9 +18,8 @@ class Volume(Component):
     parameters = (
         Param("V", "m^3", 1e-4, "oil volume", positive=True, bounds=(1e-7, 1e-1)),
         Param("beta", "Pa", 1.5e9, "oil bulk modulus", fluid="beta", positive=True, bounds=(1e8, 2.5e9)),
-        Param("air", "1", 0.0, "entrained air volume fraction at 1 bar", min=0.0, max=0.5, bounds=(0.0, 0.1)),
+        *AIR_PARAMS,
     )
 
     def equations(self, c):
-        beta = effective_bulk_modulus(c.p.beta, c.across("P"), c.p.air if c.active("air") else 0.0)
-        c.capacitance("P", c.p.V / beta)
+        c.capacitance("P", c.p.V / oil_bulk_modulus(c, c.across("P")))
