@@ -27,7 +27,10 @@ def identify(model: Model, exps, outputs, free=None, p_start=None, max_evals: in
 
 
 def inflated_stderr(res: FitResult, n_eff: float) -> np.ndarray:
-    return res.stderr * np.sqrt(max(res.n_residuals, 1) / max(n_eff, 1.0))
+    """Gauss–Newton (white-residual) standard errors × √(N/n_eff), with the diagnosis's n_eff
+    (summed over the residual series of the current model) so candidates are compared alike."""
+    white = res.stderr if res.stderr_white is None else res.stderr_white
+    return white * np.sqrt(max(res.n_residuals, 1) / max(n_eff, 1.0))
 
 
 def judge(model: Model, res: FitResult, n_eff: float) -> list[dict]:

@@ -49,6 +49,8 @@ class FitResult:
     interrupted: bool = False
     seconds: float = 0.0
     warnings: list[str] = field(default_factory=list)
+    stderr_white: np.ndarray | None = None   # Gauss–Newton, assuming white residuals
+    n_effective: float = 0.0                 # independent residual samples (AR(1) estimate)
 
     def as_dict(self) -> dict:
         """The /identify group of the HDF5 result."""
@@ -57,6 +59,8 @@ class FitResult:
                 "cost_history": np.array(self.cost_history), "cost": self.cost, "cost_initial": self.cost_initial,
                 "method": self.method, "message": self.message, "n_evals": self.n_evals,
                 "interrupted": int(self.interrupted), "seconds": self.seconds,
+                "stderr_white": self.stderr if self.stderr_white is None else self.stderr_white,
+                "n_effective": self.n_effective or self.n_residuals,
                 "warnings": np.array(self.warnings or [""], dtype=object)}
 
 
@@ -142,14 +146,33 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
     p_best = fp.full_vector(base, est)
     untracked = lambda z: objective.residuals(fp.full_vector(base, fp.from_z(z)))   # noqa: E731
     J = last["J"] if "jz" in last and np.array_equal(last["jz"], z_best) else None   # reuse the last Jacobian
-    stderr, corr = _uncertainty(untracked, z_best, fp, tracker.best_cost, objective.size, interrupted, workers, J)
+    white, corr = _uncertainty(untracked, z_best, fp, tracker.best_cost, objective.size, interrupted, workers, J)
+    n_eff = effective_samples(last["r"]) if "z" in last and np.array_equal(last["z"], z_best) \
+        else effective_samples(untracked(z_best))
+    stderr = white * np.sqrt(objective.size / n_eff) if n_eff > 0 else white
     res = FitResult(names=fp.names, initial=base[fp.index], estimates=est, lower=fp.lo, upper=fp.hi,
-                    stderr=stderr, correlation=corr, cost_initial=cost0, cost=tracker.best_cost,
+                    stderr=stderr, stderr_white=white, n_effective=n_eff, correlation=corr, cost_initial=cost0,
+                    cost=tracker.best_cost,
                     cost_history=tracker.history, p=p_best, n_evals=objective.n_evals, n_failed=objective.n_failed,
                     n_residuals=objective.size, method=method, message=str(message), interrupted=interrupted,
                     seconds=time.perf_counter() - t0)
     res.warnings = fit_warnings(res, fp)
     return res
+
+
+def effective_samples(r: np.ndarray) -> float:
+    """Independent samples in an autocorrelated residual, n·(1 − ρ₁)/(1 + ρ₁) for an AR(1)
+    process with lag-1 autocorrelation ρ₁ (Bayley & Hammersley 1946; Box, Jenkins & Reinsel
+    §2.1). Model error makes a dynamic fit's residuals strongly correlated, and Gauss–Newton
+    standard errors, which assume white residuals, are then too small by √(n/n_eff)."""
+    r = np.asarray(r, float)
+    n = r.size
+    if n < 3:
+        return float(n)
+    d = r - r.mean()
+    den = float(d @ d)
+    rho = float(np.clip((d[1:] @ d[:-1]) / den, -0.99, 0.9999)) if den > 0 else 0.0
+    return float(np.clip(n * (1 - rho) / (1 + rho), 2.0, n))
 
 
 def jacobian(residual_fn, z: np.ndarray, r0: np.ndarray, workers: int = 1, step: float = 1e-3) -> np.ndarray:

@@ -41,6 +41,9 @@ def print_fit(res) -> None:
     typer.echo(f"{res.method}: {res.message} ({res.n_evals} simulations, {res.seconds:.1f} s"
                + (", interrupted" if res.interrupted else "") + ")")
     typer.echo(f"cost {res.cost_initial:.6g} → {res.cost:.6g} over {res.n_residuals} residuals")
+    if res.n_effective and res.n_effective < res.n_residuals:
+        typer.echo(f"standard errors allow for correlated residuals: {res.n_effective:.0f} independent of "
+                   f"{res.n_residuals} (× {np.sqrt(res.n_residuals / res.n_effective):.2g} on the white-noise values)")
     rows = [["parameter", "initial", "estimate", "std error", "rel %", "lower", "upper"]]
     for i, n in enumerate(res.names):
         se, v = res.stderr[i], res.estimates[i]
