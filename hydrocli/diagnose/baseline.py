@@ -21,8 +21,9 @@ from .residuals import OPTS
 MAX_FAR = 3.0
 
 
-def identify(model: Model, exps, outputs, free=None, p_start=None, max_evals: int = 30, progress=None) -> FitResult:
-    return fit(model, exps, free, method="least-squares", cost="esr", outputs=outputs, p_start=p_start,
+def identify(model: Model, exps, free=None, p_start=None, max_evals: int = 30, progress=None) -> FitResult:
+    """Least squares on ESR-scaled residuals of each experiment's ``fit_outputs``."""
+    return fit(model, exps, free, method="least-squares", cost="esr", p_start=p_start,
                max_evals=max_evals, opts=OPTS, progress=progress)
 
 

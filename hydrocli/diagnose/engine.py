@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import DataError, Problem
 from ..experiments.experiment_file import load_all
 from ..model.builder import build_model
 from ..netlist.loader import load_netlist
@@ -118,14 +119,21 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
     model = build_model(net)
     train = load_data(model, net, train_paths)
     validate = load_data(model, net, validate_paths)
-    outputs = [o for o in model.output_names if all(o in e.measured for e in train + validate)]
+    outputs = [o for o in model.output_names
+               if any(o in e.measured for e in train) and any(o in e.measured for e in validate)]
+    if not outputs:
+        raise DataError(Problem("no machine output is measured in both the training and the validation data",
+                                hint=f"map recording columns to outputs ({', '.join(model.output_names)}) "
+                                     "in the experiment files"))
+    residuals.focus(train + validate, outputs)
     _log(progress, f"re-identifying the base model ({len(model.free_params)} free parameters) on "
                    f"{len(train)} training experiment(s)…")
-    res0 = baseline.identify(model, train, outputs, max_evals=st.base_evals)
+    res0 = baseline.identify(model, train, max_evals=st.base_evals)
     base = _stage(augment.set_values(net, dict(zip(res0.names, res0.estimates))), model, res0.p, res0.cost,
                   res0.names, train, validate, outputs)
     n_eff = _n_eff(model, train, base.Y_train, outputs)
-    noise = {o: float(np.mean([stats.noise_esr(e.measured[o]) for e in validate])) for o in outputs}
+    noise = {o: float(np.mean([stats.noise_esr(e.measured[o]) for e in validate if o in e.measured]))
+             for o in outputs}
     noise_total = residuals.total(noise)
     judged = baseline.judge(model, res0, n_eff)
     _log(progress, f"base model: train ESR {_fmt(base.esr_train)}; validation ESR {_fmt(base.esr_validation)}")
@@ -153,7 +161,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
             except Exception as exc:
                 skipped_all.append({"effect": c.effect, "reason": f"cannot augment '{c.component}': {exc}"})
         cands = [c for c in cands if c.key in texts]
-        obj = residuals.objective(stage.model, train, outputs)
+        obj = residuals.objective(stage.model, train)
         r = obj.residuals(stage.p)
         n_eff = _n_eff(stage.model, train, stage.Y_train, outputs)
         idx = [stage.model.param_index(n) for n in stage.free]
@@ -217,7 +225,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
         p_c = workers.warm_vector(model_c, f["param_names"], f["p"])
         free_c = list(model_c.free_params)
         _log(progress, f"  polishing the model with {c.effect} (all {len(free_c)} free parameters)…")
-        pol = baseline.identify(model_c, train, outputs, p_start=p_c, max_evals=st.base_evals)
+        pol = baseline.identify(model_c, train, p_start=p_c, max_evals=st.base_evals)
         if pol.cost < f["cost"]:
             p_c, f = pol.p, dict(f, cost=pol.cost, names=pol.names, estimates=pol.estimates.tolist(),
                                  stderr=baseline.inflated_stderr(pol, n_eff).tolist())

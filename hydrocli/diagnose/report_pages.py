@@ -35,7 +35,7 @@ def _localisation(diag):
     gs = fig.add_gridspec(4, 2, hspace=0.6, wspace=0.35)
     e, Y = diag.train[0], base.Y_train[0]
     ax = fig.add_subplot(gs[0, :])
-    for o in diag.outputs:
+    for o in (o for o in diag.outputs if o in e.measured):
         y = e.measured[o]
         ax.plot(e.t_out, (Y[:, base.model.output_names.index(o)] - y) / (np.std(y) or 1), lw=0.5, label=o)
     for w in d["located"]["windows"][:8]:
@@ -89,9 +89,9 @@ def _ranking(diag):
 
 def _before_after(diag, exps, before, after, title):
     fig = plt.figure(figsize=A4)
-    outs = diag.outputs
     fig.suptitle(title, fontsize=11)
     e, Yb, Ya = exps[0], before[0], after[0]
+    outs = [o for o in diag.outputs if o in e.measured]
     gs = fig.add_gridspec(len(outs), 3, hspace=0.35, wspace=0.3)
     worst = _worst_window(e, Yb, diag)
     for k, o in enumerate(outs):
@@ -127,7 +127,7 @@ def _display(model, o: str) -> tuple[float, str]:
 def _worst_window(e, Yb, diag, width=2.0):
     """Centre a zoom window where the base model's normalised residual energy is largest."""
     r = np.zeros(e.t_out.size)
-    for o in diag.outputs:
+    for o in (o for o in diag.outputs if o in e.measured):
         y = e.measured[o]
         r += ((Yb[:, diag.base.model.output_names.index(o)] - y) / (np.std(y) or 1.0)) ** 2
     n = max(int(width / max(float(np.median(np.diff(e.t_out))), 1e-9)), 1)

@@ -16,8 +16,16 @@ from ..solve.simulate import SolverOptions, simulate
 OPTS = SolverOptions(rtol=1e-5)
 
 
-def objective(model: Model, exps: list[Experiment], outputs: list[str]) -> Objective:
-    return Objective(model, make_targets(model, exps, outputs, "esr"), OPTS)
+def objective(model: Model, exps: list[Experiment]) -> Objective:
+    """The identification cost on each experiment's ``fit_outputs`` (see :func:`focus`)."""
+    return Objective(model, make_targets(model, exps, None, "esr"), OPTS)
+
+
+def focus(exps: list[Experiment], outputs: list[str]) -> None:
+    """Fit, in every experiment, the diagnosis outputs it measures (a sensor moved between
+    runs — chamber A in some recordings, B in others — still counts where it was)."""
+    for e in exps:
+        e.fit_outputs = [o for o in outputs if o in e.measured]
 
 
 def simulate_outputs(model: Model, exps: list[Experiment], p: np.ndarray) -> list[np.ndarray]:

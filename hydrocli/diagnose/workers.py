@@ -29,7 +29,7 @@ def screen_one(job: dict) -> dict:
     try:
         model = model_from_text(job["text"], job["file"])
         p = warm_vector(model, job["names"], job["values"])
-        obj = residuals.objective(model, job["train"], job["outputs"])
+        obj = residuals.objective(model, job["train"])
         for prm in job["params"]:
             p[model.param_index(prm.name)] = prm.start
         r0 = obj.residuals(p)
@@ -81,7 +81,7 @@ def fit_one(job: dict) -> dict:
     try:
         model = model_from_text(job["text"], job["file"])
         p = warm_vector(model, job["names"], job["values"])
-        obj = residuals.objective(model, job["train"], job["outputs"])
+        obj = residuals.objective(model, job["train"])
         best = None
         for start in job.get("starts") or [{}]:
             q = p.copy()
@@ -91,7 +91,7 @@ def fit_one(job: dict) -> dict:
             if best is None or c < best[0]:
                 best = (c, q)
         p = best[1]
-        res = baseline.identify(model, job["train"], job["outputs"], p_start=p, max_evals=job["max_evals"])
+        res = baseline.identify(model, job["train"], p_start=p, max_evals=job["max_evals"])
         Ytr = residuals.simulate_outputs(model, job["train"], res.p)
         Yva = residuals.simulate_outputs(model, job["validate"], res.p)
         return {"key": job["key"], "error": None, "names": res.names, "estimates": res.estimates.tolist(),

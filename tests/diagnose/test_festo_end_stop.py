@@ -30,3 +30,23 @@ def test_diagnose_finds_the_end_stop_on_the_real_festo_rig(tmp_path, monkeypatch
     write_augmented(d, tmp_path / "augmented.yaml")
     cyl = load_netlist(tmp_path / "augmented.yaml").components["cylinder"]
     assert "x_max" in cyl.params and "k_stop" in cyl.params
+
+
+def _chamber_b(src: Path, dest: Path) -> Path:
+    """The same windows of the chamber-B recordings (the rig's one pressure sensor moved)."""
+    text = src.read_text().replace("pA", "pB").replace("../../../shared", str(ROOT.parent / "shared"))
+    dest.write_text(text)
+    return dest
+
+
+@pytest.mark.skipif(not DATA.is_dir(), reason="shared Festo recordings not available")
+def test_diagnose_pools_recordings_that_measure_different_chambers(tmp_path, monkeypatch):
+    """pA in some recordings, pB in others: each experiment is fitted and scored on what it
+    measured, and both pressures improve."""
+    monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path / "cache"))
+    train = [EXP / "end_stop_train.yaml", _chamber_b(EXP / "end_stop_train.yaml", tmp_path / "train_b.yaml")]
+    val = [EXP / "end_stop_validate.yaml", _chamber_b(EXP / "end_stop_validate.yaml", tmp_path / "val_b.yaml")]
+    d = diagnose(ROOT / "machines" / "festo_tp511_no_endstops.yaml", train, val, Settings(max_effects=1, jobs=2))
+    assert d.outputs == ["x", "pA", "pB"] and d.data["effects"] == ["end_stop"]
+    before, after = d.data["esr_validation_base"], d.data["esr_validation_final"]
+    assert after["pA"] < 0.2 * before["pA"] and after["pB"] < 0.2 * before["pB"]
