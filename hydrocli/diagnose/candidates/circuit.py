@@ -34,18 +34,14 @@ class CircuitFamily(Family):
             line = A.unique_name(ctx.net, f"{valve}_line_{vp}")
             vol = A.unique_name(ctx.net, f"{valve}_port_{vp}")
             new = A.unique_name(ctx.net, f"{node}_valve")
-            # length sizes the effect; the bore sets the loss/inertance ratio (R/I = 32ν/d²) and
-            # the valve-side volume the hose's capacity: companions, identified with it
-            params += [NewParam(f"{line}.l", 0.05, (0.01, 20.0), (0.2, 20.0), 4.0, True),
-                       NewParam(f"{line}.d", 0.005, (0.002, 0.03), (0.002, 0.03), 0.008, True, primary=False),
-                       NewParam(f"{vol}.V", 2e-5, (1e-6, 1e-3), (1e-6, 1e-3), 5e-5, True, primary=False)]
+            params.append(NewParam(f"{line}.l", 0.05, (0.01, 20.0), (0.2, 20.0), 2.0, True))
             plan.append((vp, new, node, line, vol))
 
         def build(net):
             for vp, new, node, line, vol in plan:
                 net = A.connect(net, valve, vp, new)
                 net = A.add(net, vol, "volume", {"P": new}, {"V": 2e-5})
-                net = A.add(net, line, "fluid_line", {"A": new, "B": node}, {"d": 0.005})
+                net = A.add(net, line, "fluid_line", {"A": new, "B": node}, {"d": 0.01})
             for p in params:
                 net = A.free(net, p.name, p.start, p.bounds, True)
             return _initial_like(net, [(new, node) for _, new, node, _, _ in plan])
