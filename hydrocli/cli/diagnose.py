@@ -10,8 +10,9 @@ def register(app: typer.Typer) -> None:
     @app.command("diagnose")
     def diagnose_cmd(
         machine: Path = typer.Argument(..., help="machine YAML file"),
-        train: list[Path] = typer.Option(..., "--train", help="training experiment (YAML or recording), repeatable"),
-        validate: list[Path] = typer.Option(..., "--validate", help="held-out experiment, repeatable"),
+        train: list[Path] = typer.Option(..., "--train", help="training experiment(s): a YAML file (all its "
+                                         "experiments; FILE#NAME picks one) or a recording; repeatable"),
+        validate: list[Path] = typer.Option(..., "--validate", help="held-out experiment(s), as --train; repeatable"),
         out: Path = typer.Option(Path("diagnosis"), "--out", "-o", help="directory for diagnosis.json, "
                                  "augmented.yaml and report.pdf"),
         max_effects: int = typer.Option(3, "--max-effects", min=0, help="effects to add at most"),

@@ -18,7 +18,8 @@ def register(app: typer.Typer) -> None:
     def validate_cmd(
         machine: Optional[Path] = typer.Argument(None, help="machine YAML file (not needed with --results)"),
         experiments: list[Path] = typer.Option(None, "--experiment", "-e",
-                                               help="held-out experiment YAML or recording; repeatable"),
+                                               help="held-out experiment(s): a YAML file (all its experiments; "
+                                                    "FILE#NAME picks one) or a recording; repeatable"),
         results: list[Path] = typer.Option(None, "--results", "-r",
                                            help="result .h5 with /outputs and /measured (no re-simulation); repeatable"),
         thresholds: Optional[Path] = typer.Option(None, "--thresholds", "-t",
