@@ -99,6 +99,10 @@ CASES = {
                              "params": {"K_s": 1.0e-7, "P0": 6.0e6, "Vg0": 2.0e-5, "n": 1.4,
                                         "V_l": 2.0e-4, "Pv0": 1.0e7}},
     # 6 m hoses, 6 mm bore: V_h = a L, I = rho L / a, R_l = 128 mu L / (pi d^4), R_t fittings
+    # torque-motor hysteresis: a smooth loop of half-width 0.8 % of spool stroke, closing
+    # over ~0.5 % of spool travel
+    "valve_hysteresis": {"effect": "valve_hysteresis", "seed": 119,
+                         "params": {"h": 0.8, "sigma": 6.0, "eps": 0.5}},
     "line_dynamics": {"effect": "line_dynamics", "seed": 116,
                       "params": {"V_h": 1.7e-4, "I": 1.85e8, "R_l": 7.6e9, "R_t": 1.2e12}},
 }

@@ -279,6 +279,29 @@ class SupplyPressureDrop(Effect):
         return 10.0
 
 
+class ValveHysteresis(Effect):
+    name = "valve_hysteresis"
+    form = ("magnetic hysteresis of the torque motor as a SMOOTH Dahl loop on the spool: metering "
+            "opening x_e = x_v - z, dz/dt = sigma * dx_v/dt * (1 - (z/h) tanh((dx_v/dt)/eps)) "
+            "(not a sharp play/backlash)")
+    custom_valve = True
+
+    def setup(self, model):
+        model.layout.add("zh")
+
+    def valve_flows(self, model, xv, Ps, y):
+        return model.valve_flows(xv - y[model.n_base], Ps, y[3], y[4])
+
+    def more_derivatives(self, model, t, y, dy, qs):
+        p = self.params
+        i = model.n_base
+        rate = y[2]                                   # spool velocity [%/s]
+        dy[i] = p["sigma"] * rate * (1.0 - (y[i] / p["h"]) * math.tanh(rate / p["eps"]))
+
+    def atol(self, name):
+        return 1e-6 if name == "zh" else 1e-8
+
+
 class LineDynamics(Effect):
     name = "line_dynamics"
     form = ("hoses A and B between valve and cylinder: valve-side oil volume V_h (node "
@@ -314,7 +337,7 @@ class LineDynamics(Effect):
 EFFECTS = {c.name: c for c in [
     InternalLeakage, ExternalLeakage, CoulombFriction, StribeckFriction,
     PressureDependentFriction, EntrainedAir, ValveOverlap, ValveAsymmetry, InputDelay,
-    SensorLag, EndStop, LoadCompliance, SupplyPressureDrop, LineDynamics]}
+    SensorLag, EndStop, LoadCompliance, SupplyPressureDrop, LineDynamics, ValveHysteresis]}
 
 
 def make_effect(name: str, params: dict):

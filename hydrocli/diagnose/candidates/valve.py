@@ -59,11 +59,17 @@ class ValveFamily(Family):
             return Skipped("valve_hysteresis", f"'{valve}' has no command signal")
         play = A.unique_name(ctx.net, f"{valve}_play")
         node = A.unique_name(ctx.net, f"{cmd}_{valve}")
-        b = f"{play}.b"
+        # half-width b, and the rounding of the band's edges (a companion): magnetic hysteresis
+        # of a torque motor closes its loop gradually, a worn linkage's play abruptly
+        params = [NewParam(f"{play}.b", 1e-4, (0.0, 0.1), (2e-3, 0.1), 0.01),
+                  NewParam(f"{play}.eps", 1e-4, (1e-5, 0.02), (1e-5, 0.02), 2e-3, True, primary=False)]
 
         def build(net):
             net = A.add(net, play, "play", {"in": cmd, "out": node})
             net = A.connect(net, valve, "cmd", node)
-            return A.free(net, b, 1e-4, (0.0, 0.1), None)
-        return Candidate("valve_hysteresis", valve, [NewParam(b, 1e-4, (0.0, 0.1), (2e-3, 0.1), 0.01)], build,
-                         "valve", "play between command and spool: the spool lags a reversing command")
+            for prm in params:
+                net = A.free(net, prm.name, prm.start, prm.bounds, prm.log)
+            return net
+        return Candidate("valve_hysteresis", valve, params, build,
+                         "valve", "play (backlash, rounded or sharp) between command and spool: the spool lags a "
+                                  "reversing command")
