@@ -109,6 +109,31 @@ def test_input_delay_shifts_a_ramp_by_exactly_the_delay():
     assert np.allclose(y["delayed"][k], 0.1e3 * (t[k] - 0.05 - Td), atol=1e-4)
 
 
+def test_valve_hysteresis_loop_has_its_half_width():
+    """The Dahl loop of the valve_hysteresis case: with the spool moving steadily one way the
+    lag z of the metering opening settles at +h, after a reversal at −h (loop width 2h),
+    approached as z = −h + 2h·exp(−sigma·Δx/h) over the travel Δx since the reversal."""
+    from experiments.concealed.truth.effects import ValveHysteresis
+    from scipy.integrate import solve_ivp
+    eff = ValveHysteresis(h=0.8, sigma=6.0, eps=0.5)
+
+    class _Model:
+        n_base = 3
+
+    def rhs(t, y):
+        rate = 10.0 if t < 1.0 else -10.0          # spool velocity, %/s
+        state = [0.0, 0.0, rate, y[0]]
+        dy = [0.0] * 4
+        eff.more_derivatives(_Model, t, state, dy, 0.0)
+        return [dy[3]]
+
+    sol = solve_ivp(rhs, (0.0, 2.0), [0.0], t_eval=[0.99, 1.01, 1.05, 1.99], rtol=1e-9, atol=1e-12, max_step=1e-3)
+    z = sol.y[0]
+    assert z[0] == pytest.approx(0.8, rel=1e-3) and z[3] == pytest.approx(-0.8, rel=1e-3)
+    for k, travel in ((1, 0.1), (2, 0.5)):                      # % of spool stroke
+        assert z[k] == pytest.approx(-0.8 + 1.6 * np.exp(-6.0 * travel / 0.8), abs=2e-3)
+
+
 def test_tighter_tolerance_agrees():
     from experiments.concealed.generate import CASES, base_params
     spec = CASES["line_dynamics"]
