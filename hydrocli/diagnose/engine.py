@@ -27,6 +27,7 @@ from .measurement import sensed_states, with_pressure_sensors
 
 
 CONTROL = "control: current model, same budget"
+ALTERNATIVE = 0.8   # another passing effect with ΔBIC ≥ 80 % of the winner's is reported as nearly as good
 
 
 @dataclass
@@ -219,7 +220,10 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
             _log(progress, "  no candidate passes BIC + validation + plausibility")
             break
         passing.sort(key=lambda x: x[0])
-        _, c, f = passing[0]
+        dbic_best, c, f = passing[0]
+        alternatives = [{"effect": c2.effect, "component": c2.component, "delta_bic": d2,
+                         "esr_validation_after": f2["esr_validation"]}
+                        for d2, c2, f2 in passing[1:] if c2.effect != c.effect and d2 <= ALTERNATIVE * dbic_best]
         aug = augment.reload(stage.net, texts[c.key])
         model_c = build_model(aug)
         p_c = workers.warm_vector(model_c, f["param_names"], f["p"])
@@ -236,7 +240,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                          "description": c.description, "parameters": _new_params(c, f),
                          "delta_bic": verdict["delta_bic"], "esr_train_before": stage.esr_train,
                          "esr_train_after": new.esr_train, "esr_validation_before": stage.esr_validation,
-                         "esr_validation_after": new.esr_validation})
+                         "esr_validation_after": new.esr_validation, "alternatives": alternatives})
         _log(progress, f"  accepted {c.effect} on '{c.component}': validation ESR {_fmt(stage.esr_validation)} "
                        f"→ {_fmt(new.esr_validation)}")
         history.append(stage)

@@ -65,6 +65,9 @@ def console_summary(diag) -> str:
                          f"({pars}); adding it cut validation ESR of {o} from "
                          f"{a['esr_validation_before'][o]:.3g} % to {a['esr_validation_after'][o]:.3g} % "
                          f"(ΔBIC {a['delta_bic']:+.0f}).")
+            for alt in a.get("alternatives", []):
+                lines.append(f"  Nearly as good: {alt['effect'].replace('_', ' ')} on '{alt['component']}' "
+                             f"(ΔBIC {alt['delta_bic']:+.0f}); these data barely tell the two apart.")
     else:
         best = d["ranking"][0] if d["ranking"] else None
         tail = f" (best candidate {best['effect']}: {'; '.join(best.get('reasons', [])) or 'not re-identified'})" \

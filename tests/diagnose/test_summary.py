@@ -1,0 +1,23 @@
+"""The console summary says what was added, how much it helped, and which other effect the
+data could barely tell apart from it."""
+from types import SimpleNamespace
+
+from hydrocli.diagnose.summary import console_summary
+
+
+def _diag(alternatives):
+    acc = {"effect": "input_delay", "component": "valve", "delta_bic": -1457.0,
+           "parameters": [{"name": "u_delay.T", "value": 0.0096, "stderr": 0.0002}],
+           "esr_validation_before": {"P1": 9.15, "v": 1.49}, "esr_validation_after": {"P1": 2.88, "v": 0.64},
+           "alternatives": alternatives}
+    data = {"located": {"outputs": {}, "regimes": []}, "base_parameters": [], "accepted": [acc],
+            "verdict": "missing_physics", "effects": ["input_delay"], "runtime_s": 60.0, "ranking": []}
+    return SimpleNamespace(data=data)
+
+
+def test_summary_names_the_effect_its_gain_and_a_close_alternative():
+    text = console_summary(_diag([{"effect": "valve_hysteresis", "component": "valve", "delta_bic": -1386.0,
+                                   "esr_validation_after": {}}]))
+    assert "Input delay on 'valve' was missing" in text and "from 9.15 % to 2.88 %" in text
+    assert "Nearly as good: valve hysteresis on 'valve' (ΔBIC -1386)" in text
+    assert "Nearly as good" not in console_summary(_diag([]))
