@@ -53,6 +53,26 @@ def free(net: Netlist, name: str, start: float, bounds: tuple[float, float], log
     return net
 
 
+def free_new(net: Netlist, params) -> Netlist:
+    """Each of a candidate's new parameters (``NewParam``) free from its start value within
+    its bounds, on a log scale where it says so."""
+    for prm in params:
+        net = free(net, prm.name, prm.start, prm.bounds, prm.log)
+    return net
+
+
+def set_initial(net: Netlist, values: dict) -> Netlist:
+    """The machine with these ``initial:`` entries set (SI numbers or values with units)."""
+    if not values:
+        return net
+    doc = Y.load_text(Y.dump_text(net.doc), net.file)
+    if doc.get("initial") is None:
+        doc["initial"] = {}
+    for k, v in values.items():
+        doc["initial"][k] = float(v) if isinstance(v, (int, float)) else v
+    return reload(net, Y.dump_text(doc))
+
+
 def fix(net: Netlist, name: str) -> Netlist:
     return reload(net, writer.set_free(net, param_slot(net, name), False))
 

@@ -108,9 +108,7 @@ class Family:
                 net = A.connect(net, comp, port, node)
             if fixed:
                 net = A.set_values(net, fixed)
-            for p in params:
-                net = A.free(net, p.name, p.start, p.bounds, p.log)
-            return net
+            return A.free_new(net, params)
         return Candidate(effect, comp, params, build, equation, description, dict(fixed or {}))
 
 

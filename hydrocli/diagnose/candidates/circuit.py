@@ -42,8 +42,7 @@ class CircuitFamily(Family):
                 net = A.connect(net, valve, vp, new)
                 net = A.add(net, vol, "volume", {"P": new}, {"V": 2e-5})
                 net = A.add(net, line, "fluid_line", {"A": new, "B": node}, {"d": 0.01})
-            for p in params:
-                net = A.free(net, p.name, p.start, p.bounds, True)
+            net = A.free_new(net, params)
             return _initial_like(net, [(new, node) for _, new, node, _, _ in plan])
         return Candidate("line_dynamics", valve, params, build, "continuity",
                          f"hoses between '{valve}' and the cylinder: inertance, loss and volume")
@@ -72,9 +71,8 @@ class CircuitFamily(Family):
             net = A.connect(net, src[0], "P", new)
             net = A.add(net, orf, "orifice", {"A": new, "B": node})
             net = A.add(net, vol, "volume", {"P": node}, {"V": 1e-3})
-            for prm in params:
-                net = A.free(net, prm.name, prm.start, prm.bounds, prm.log)
-            return _initial_values(net, {f"{node}.p": p_start}) if p_start else net
+            net = A.free_new(net, params)
+            return A.set_initial(net, {f"{node}.p": p_start}) if p_start else net
         return Candidate("supply_pressure_drop", src[0], params, build, "continuity",
                          f"pressure drop in the supply line of '{valve}' (turbulent restriction + line/accumulator volume)")
 
@@ -100,20 +98,7 @@ def _source_pressure(ctx: Context, src: str) -> float | None:
         return None
 
 
-def _initial_values(net, values: dict):
-    """The machine with these ``initial:`` entries set (values in SI or with units)."""
-    if not values:
-        return net
-    from ...netlist import yamldoc as Y
-    doc = Y.load_text(Y.dump_text(net.doc), net.file)
-    if doc.get("initial") is None:
-        doc["initial"] = {}
-    for k, v in values.items():
-        doc["initial"][k] = float(v) if isinstance(v, (int, float)) else v
-    return A.reload(net, Y.dump_text(doc))
-
-
 def _initial_like(net, pairs):
     """New nodes start like the node they were split from (its ``initial`` entry, if any)."""
     init = net.doc.get("initial") or {}
-    return _initial_values(net, {f"{new}.p": init[f"{old}.p"] for new, old in pairs if f"{old}.p" in init})
+    return A.set_initial(net, {f"{new}.p": init[f"{old}.p"] for new, old in pairs if f"{old}.p" in init})

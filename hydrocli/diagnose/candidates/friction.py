@@ -82,9 +82,7 @@ class FrictionFamily(Family):
                     ports.update(pa=d["A"], pb=d["B"])
                 extra = {"A_p": area} if connect_pressures else {}
                 net = A.add(net, fr, "friction", ports, extra)
-                for p in params:
-                    net = A.free(net, p.name, p.start, p.bounds, p.log)
-                return net
+                return A.free_new(net, params)
             return build
         fmax = 2e5 * area
         f = f"{fr}."

@@ -72,7 +72,5 @@ def _orifice(ctx: Context, effect: str, cyl: str, paths: list[tuple[str, str]], 
     def build(net):
         for n, (a, b) in zip(names, paths):
             net = A.add(net, n, "orifice", {"A": a, "B": b}, {"dp_lam": 2e5})
-        for prm in params:
-            net = A.free(net, prm.name, prm.start, prm.bounds, True)
-        return net
+        return A.free_new(net, params)
     return Candidate(effect, cyl, params, build, "continuity", description)

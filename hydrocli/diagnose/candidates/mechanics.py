@@ -57,9 +57,7 @@ class MechanicsFamily(Family):
             net = A.add(net, damper, "damper", {"a": rod, "b": load}, {"c": c0})
             net = A.rewrite_outputs(net, {f"{rod}.x": f"{load}.x", f"{rod}.v": f"{load}.v"})
             net = _move_initial(net, rod, load)
-            for prm in params:
-                net = A.free(net, prm.name, prm.start, prm.bounds, True)
-            return net
+            return A.free_new(net, params)
         return Candidate("load_compliance", cyl, params,
                          build, "force", f"elastic coupling between the rod of '{cyl}' and its load "
                                          "(x and v measured on the load side)")
@@ -98,10 +96,6 @@ class MechanicsFamily(Family):
 
 def _move_initial(net, old: str, new: str):
     """Initial position of the old node also for the new one (the coupling starts relaxed)."""
-    from ...netlist import yamldoc as Y
-    doc = Y.load_text(Y.dump_text(net.doc), net.file)
-    init = doc.get("initial") or {}
-    for key in list(init):
-        if str(key).startswith(f"{old}."):
-            init[f"{new}.{str(key).split('.', 1)[1]}"] = init[key]
-    return A.reload(net, Y.dump_text(doc))
+    init = net.doc.get("initial") or {}
+    return A.set_initial(net, {f"{new}.{str(k).split('.', 1)[1]}": v for k, v in init.items()
+                               if str(k).startswith(f"{old}.")})

@@ -45,9 +45,7 @@ class ValveFamily(Family):
 
         def build(net):
             net = A.set_type(net, valve, "valve_4_3_edges")
-            for prm in params:
-                net = A.free(net, prm.name, prm.start, prm.bounds, None)
-            return net
+            return A.free_new(net, params)
         return Candidate("valve_asymmetry", valve, params, build, "valve",
                          "unmatched metering edges: one flow gain per edge (meter-in/meter-out, both directions)",
                          variant="edges")
@@ -67,9 +65,7 @@ class ValveFamily(Family):
         def build(net):
             net = A.add(net, play, "play", {"in": cmd, "out": node})
             net = A.connect(net, valve, "cmd", node)
-            for prm in params:
-                net = A.free(net, prm.name, prm.start, prm.bounds, prm.log)
-            return net
+            return A.free_new(net, params)
         return Candidate("valve_hysteresis", valve, params, build,
                          "valve", "play (backlash, rounded or sharp) between command and spool: the spool lags a "
                                   "reversing command")
