@@ -20,6 +20,8 @@ from __future__ import annotations
 import numpy as np
 from scipy import stats as _st
 
+from ..metrics import effective_samples as effective_n  # noqa: F401  (one AR(1) estimate for identify and diagnose)
+
 
 def acf(r: np.ndarray, maxlag: int) -> np.ndarray:
     r = np.asarray(r, float) - np.mean(r)
@@ -40,13 +42,6 @@ def ljung_box(r: np.ndarray, lags: int = 20) -> tuple[float, float]:
     return q, float(_st.chi2.sf(q, lags))
 
 
-def effective_n(r: np.ndarray) -> float:
-    """n·(1 − ρ₁)/(1 + ρ₁), at least 2 and at most n."""
-    n = len(r)
-    if n < 3:
-        return float(n)
-    rho1 = float(np.clip(acf(r, 1)[1], -0.99, 0.9999))
-    return float(np.clip(n * (1 - rho1) / (1 + rho1), 2.0, n))
 
 
 def cross_correlation(r: np.ndarray, u: np.ndarray, maxlag: int) -> tuple[float, int]:

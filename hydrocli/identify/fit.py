@@ -19,6 +19,7 @@ from scipy import optimize
 
 from ..errors import IdentifyError, Problem
 from ..experiments.experiment import Experiment
+from ..metrics import effective_samples
 from ..model.model import Model
 from ..solve.simulate import SolverOptions
 from .cost import Objective, make_targets
@@ -146,9 +147,13 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
     p_best = fp.full_vector(base, est)
     untracked = lambda z: objective.residuals(fp.full_vector(base, fp.from_z(z)))   # noqa: E731
     J = last["J"] if "jz" in last and np.array_equal(last["jz"], z_best) else None   # reuse the last Jacobian
-    white, corr = _uncertainty(untracked, z_best, fp, tracker.best_cost, objective.size, interrupted, workers, J)
-    n_eff = effective_samples(last["r"]) if "z" in last and np.array_equal(last["z"], z_best) \
-        else effective_samples(untracked(z_best))
+    # residuals at the optimum: the last evaluation's when it was there, else one more simulation
+    # (skipped after Ctrl-C, like the uncertainty itself)
+    r_best = last["r"] if "z" in last and np.array_equal(last["z"], z_best) else \
+        (None if interrupted else untracked(z_best))
+    white, corr = _uncertainty(untracked, z_best, fp, tracker.best_cost, objective.size, interrupted, workers, J,
+                               r_best)
+    n_eff = effective_samples(r_best) if r_best is not None else float(objective.size)
     stderr = white * np.sqrt(objective.size / n_eff) if n_eff > 0 else white
     res = FitResult(names=fp.names, initial=base[fp.index], estimates=est, lower=fp.lo, upper=fp.hi,
                     stderr=stderr, stderr_white=white, n_effective=n_eff, correlation=corr, cost_initial=cost0,
@@ -158,21 +163,6 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
                     seconds=time.perf_counter() - t0)
     res.warnings = fit_warnings(res, fp)
     return res
-
-
-def effective_samples(r: np.ndarray) -> float:
-    """Independent samples in an autocorrelated residual, n·(1 − ρ₁)/(1 + ρ₁) for an AR(1)
-    process with lag-1 autocorrelation ρ₁ (Bayley & Hammersley 1946; Box, Jenkins & Reinsel
-    §2.1). Model error makes a dynamic fit's residuals strongly correlated, and Gauss–Newton
-    standard errors, which assume white residuals, are then too small by √(n/n_eff)."""
-    r = np.asarray(r, float)
-    n = r.size
-    if n < 3:
-        return float(n)
-    d = r - r.mean()
-    den = float(d @ d)
-    rho = float(np.clip((d[1:] @ d[:-1]) / den, -0.99, 0.9999)) if den > 0 else 0.0
-    return float(np.clip(n * (1 - rho) / (1 + rho), 2.0, n))
 
 
 def jacobian(residual_fn, z: np.ndarray, r0: np.ndarray, workers: int = 1, step: float = 1e-3) -> np.ndarray:
@@ -195,14 +185,14 @@ def jacobian(residual_fn, z: np.ndarray, r0: np.ndarray, workers: int = 1, step:
 
 
 def _uncertainty(residual_fn, z, fp: FreeParameters, ssr: float, m: int, interrupted: bool, workers: int = 1,
-                 J: np.ndarray | None = None):
+                 J: np.ndarray | None = None, r0: np.ndarray | None = None):
     k = len(z)
     nan = np.full(k, np.nan), np.full((k, k), np.nan)
     if interrupted or k == 0:
         return nan
     if J is None:
         try:
-            J = jacobian(residual_fn, z, residual_fn(z), workers)
+            J = jacobian(residual_fn, z, residual_fn(z) if r0 is None else r0, workers)
         except KeyboardInterrupt:
             return nan
     dof = max(m - k, 1)

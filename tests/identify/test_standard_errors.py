@@ -4,7 +4,7 @@ errors are the white-noise Gauss–Newton ones × √(n/n_eff)."""
 import numpy as np
 import pytest
 
-from hydrocli.identify.fit import effective_samples
+from hydrocli.metrics import effective_samples
 
 
 def _ar1(rho, n, seed):
