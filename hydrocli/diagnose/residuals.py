@@ -64,8 +64,7 @@ def esr_table(model: Model, exps: list[Experiment], Ys: list[np.ndarray], output
     for e, Y in zip(exps, Ys):
         for o in outputs:
             if o in e.measured:
-                m = used(e, o)
-                vals[o].append(esr(e.measured[o][m], Y[m, model.output_names.index(o)]))
+                vals[o].append(esr(e.measured[o], Y[:, model.output_names.index(o)], e.mask.get(o)))
     return {o: float(np.mean(v)) if v else float("nan") for o, v in vals.items()}
 
 

@@ -6,7 +6,7 @@ symmetric valve."""
 from __future__ import annotations
 
 from ..base import Param
-from ..hydraulic.valve import Valve43, edge_flow, spool_position, stamp_four_edges
+from ..hydraulic.valve import Valve43
 from ..registry import register
 
 
@@ -22,13 +22,7 @@ class Valve43Edges(Valve43):
         Param("g_AT", "1", 1.0, "gain of edge A→T relative to Kv·Kv_neg_ratio", positive=True, bounds=(0.3, 3.0)),
     )
 
-    def equations(self, c):
+    def edge_gains(self, c):
         p = c.p
-        xv = spool_position(c)
-        pP, pT, pA, pB = (c.across(n) for n in "PTAB")
-        kneg = p.Kv * p.Kv_neg_ratio
-        stamp_four_edges(c,
-                         edge_flow(c, pP - pA, xv, p.overlap_PA, p.Kv * p.g_PA),
-                         edge_flow(c, pB - pT, xv, p.overlap_BT, p.Kv * p.g_BT),
-                         edge_flow(c, pP - pB, -xv, p.overlap_PB, kneg * p.g_PB),
-                         edge_flow(c, pA - pT, -xv, p.overlap_AT, kneg * p.g_AT))
+        kv, _, kneg, _ = super().edge_gains(c)
+        return kv * p.g_PA, kv * p.g_BT, kneg * p.g_PB, kneg * p.g_AT

@@ -125,9 +125,14 @@ class Valve43(Component):
         p = c.p
         xv = spool_position(c)
         pP, pT, pA, pB = (c.across(n) for n in "PTAB")
-        kneg = p.Kv * p.Kv_neg_ratio
+        g_pa, g_bt, g_pb, g_at = self.edge_gains(c)
         stamp_four_edges(c,
-                         edge_flow(c, pP - pA, xv, p.overlap_PA, p.Kv),
-                         edge_flow(c, pB - pT, xv, p.overlap_BT, p.Kv),
-                         edge_flow(c, pP - pB, -xv, p.overlap_PB, kneg),
-                         edge_flow(c, pA - pT, -xv, p.overlap_AT, kneg))
+                         edge_flow(c, pP - pA, xv, p.overlap_PA, g_pa),
+                         edge_flow(c, pB - pT, xv, p.overlap_BT, g_bt),
+                         edge_flow(c, pP - pB, -xv, p.overlap_PB, g_pb),
+                         edge_flow(c, pA - pT, -xv, p.overlap_AT, g_at))
+
+    def edge_gains(self, c):
+        """Flow gains of the edges P→A, B→T (x_v > 0) and P→B, A→T (x_v < 0)."""
+        kneg = c.p.Kv * c.p.Kv_neg_ratio
+        return c.p.Kv, c.p.Kv, kneg, kneg
