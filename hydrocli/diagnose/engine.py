@@ -144,9 +144,10 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
     where["equations"] = eq
 
     stage, accepted, ranking, skipped_all, history = base, [], [], [], []
+    inputs_start = _inputs_start(model, train)
     for round_ in range(st.max_effects):
         ctx = Context(stage.net, set(stage.free), _position_ranges(stage.model, train, stage.Y_train),
-                      locate.output_quantities(stage.model), _inputs_start(stage.model, train))
+                      locate.output_quantities(stage.model), inputs_start)
         cands, skipped = catalogue(ctx)
         done = {a["key"] for a in accepted}
         cands = [c for c in cands if c.key not in done and c.effect not in {a["effect"] for a in accepted}
