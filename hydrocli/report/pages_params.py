@@ -76,8 +76,10 @@ def _identified_pages(out, run: Loaded) -> None:
             colours[i] = POORLY_DETERMINED
         rows.append([n, units.get(n, "-") or "-", g(cols["initial"][i]), g(est), g(lo), g(hi), g(se), g(rel)])
     warnings = [w for w in np.atleast_1d(d.get("warnings", [])) if str(w).strip()]
-    note = ("orange: estimate at a bound; red: standard error > 50 % of the estimate or undetermined. "
-            "Standard errors from the Gauss–Newton covariance at the optimum.")
+    note = ("orange: estimate at a bound; red: standard error > 50 % of the estimate or undetermined.\n"
+            "Standard errors from the Gauss–Newton covariance at the optimum"
+            + (f", × √(n/n_eff) for correlated residuals (n_eff = {float(d['n_effective']):.0f})."
+               if "stderr_white" in d and d.get("n_effective") else "."))
     if warnings:
         note += "\nwarnings: " + "; ".join(str(w) for w in warnings)[:300]
     subtitle = (f"method {d.get('method', '?')}, cost {g(d.get('cost_initial'))} → {g(d.get('cost'))}, "
