@@ -103,9 +103,11 @@ def fit_one(job: dict) -> dict:
         return {"key": job["key"], "error": f"{type(exc).__name__}: {exc}"}
 
 
-def run_all(fn, jobs: list[dict], n_jobs: int) -> list[dict]:
-    if n_jobs <= 1 or len(jobs) <= 1:
+def run_all(fn, jobs: list[dict], pool=None) -> list[dict]:
+    """``fn`` over ``jobs`` on the diagnosis's executor (identify's: a process pool, or a Dask
+    client when a scheduler was named), in this process when there is none."""
+    if pool is None or len(jobs) <= 1:
         return [fn(j) for j in jobs]
-    from concurrent.futures import ProcessPoolExecutor
-    with ProcessPoolExecutor(max_workers=n_jobs) as pool:
-        return list(pool.map(fn, jobs))
+    if hasattr(pool, "gather"):          # dask.distributed.Client
+        return pool.gather(pool.map(fn, jobs, pure=False))
+    return list(pool.map(fn, jobs))
