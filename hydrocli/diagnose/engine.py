@@ -18,6 +18,7 @@ from __future__ import annotations
 import time
 from contextlib import nullcontext
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -30,7 +31,7 @@ from ..model.builder import build_model
 from ..model.model import Model
 from ..netlist.loader import load_netlist
 from ..netlist.model import Netlist
-from . import accept, augment, baseline, findings, locate, nuisance, residuals, stats, workers
+from . import accept, augment, baseline, design, findings, locate, nuisance, residuals, stats, workers
 from .candidates import Candidate, Context, catalogue
 from .equations import equation_errors
 from .measurement import sensed_states, with_pressure_sensors
@@ -78,7 +79,8 @@ class Setup:
     train: list[Experiment]
     validate: list[Experiment]
     outputs: list[str]
-    noise: dict[str, float]
+    noise: dict[str, float]          # validation noise floor, ESR %
+    noise_sigma: dict[str, float]    # the same as a standard deviation (SI)
 
     @property
     def noise_total(self) -> float:
@@ -103,6 +105,7 @@ class Round:
     accepted: dict | None = None
     stage: Stage | None = None
     skipped: list[dict] = field(default_factory=list)
+    ambiguous: dict | None = None    # the accepted effect and one the data cannot tell from it
 
 
 @dataclass
@@ -114,6 +117,7 @@ class Diagnosis:
     validate: list
     outputs: list[str]
     history: list = field(default_factory=list)
+    proposed_experiments: list[str] = field(default_factory=list)   # YAML texts, one per ambiguity
 
 
 def _log(progress, msg):
@@ -182,7 +186,9 @@ def prepare(machine, train_paths, validate_paths, settings: Settings) -> Setup:
     residuals.focus(train + validate, outputs)
     noise = {o: float(np.mean([stats.noise_esr(e.measured[o]) for e in validate if o in e.measured]))
              for o in outputs}
-    return Setup(str(machine), net, model, sensors, found, train, validate, outputs, noise)
+    sigma = {o: float(np.sqrt(noise[o] / 100.0 * np.mean([np.nanvar(e.measured[o]) for e in validate
+                                                            if o in e.measured]))) for o in outputs}
+    return Setup(str(machine), net, model, sensors, found, train, validate, outputs, noise, sigma)
 
 
 # -- step 2 -------------------------------------------------------------------------------
@@ -282,6 +288,11 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     alternatives = [{"effect": c2.effect, "component": c2.component, "delta_bic": d2,
                      "esr_validation_after": f2["esr_validation"]}
                     for d2, c2, f2 in passing[1:] if c2.effect != c.effect and d2 <= ALTERNATIVE * dbic_best]
+    band = accept.need(val0, su.noise_total)
+    rival = next(((d2, c2, f2) for d2, c2, f2 in passing[1:] if c2.effect != c.effect and d2 <= ALTERNATIVE * dbic_best
+                  and abs(residuals.total(f2["esr_validation"]) - residuals.total(f["esr_validation"])) < band), None)
+    if rival is not None:
+        out.ambiguous = _ambiguous(su, (dbic_best, c, f), rival, texts, progress)
     new, f = _polish(su, stage, c, texts[c.key], f, n_eff, st, progress)
     row = next(rw for rw in out.rows if rw["effect"] == c.effect and rw["component"] == c.component)
     out.accepted = {"key": c.key, "effect": c.effect, "component": c.component, "source": "candidate",
@@ -332,6 +343,26 @@ def _judge(c: Candidate, score: dict, f: dict | None, round_: int, ssr0: float, 
     return row, passed
 
 
+def _ambiguous(su: Setup, win, rival, texts: dict, progress) -> dict:
+    """Two candidates the data cannot tell apart, and the test that would (:mod:`.design`)."""
+    import tempfile
+    models = []
+    for d, c, f in (win, rival):
+        m = workers.model_from_text(texts[c.key], su.machine)
+        models.append((c.effect, m, workers.warm_vector(m, f["param_names"], f["p"])))
+    _log(progress, f"  {win[1].effect} and {rival[1].effect} fit alike: designing a test that separates them…")
+    with tempfile.TemporaryDirectory() as tmp:
+        prop = design.propose(models[0], models[1], su.net, su.train, su.noise_sigma, Path(tmp),
+                              Path(su.machine).stem)
+    entry = {"effects": [win[1].effect, rival[1].effect], "components": [win[1].component, rival[1].component],
+             "delta_bic": [win[0], rival[0]],
+             "esr_validation_after": [win[2]["esr_validation"], rival[2]["esr_validation"]]}
+    if prop is not None:
+        entry.update(proposed_experiment={k: v for k, v in prop.items() if k != "text"},
+                     proposed_experiment_text=prop["text"])
+    return entry
+
+
 def _polish(su: Setup, stage: Stage, c: Candidate, text: str, f: dict, n_eff: float, st: Settings, progress):
     """The accepted model re-identified with all its parameters free."""
     aug = augment.reload(stage.net, text)
@@ -379,7 +410,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
     t_start = time.perf_counter()
     su = prepare(machine, train_paths, validate_paths, st)
     b = baseline_step(su, st, progress)
-    stage, accepted, ranking, skipped, history = b.stage, list(b.found), [], [], []
+    stage, accepted, ranking, skipped, history, ambiguous = b.stage, list(b.found), [], [], [], []
     parallel = st.jobs > 1 or st.scheduler
     with (executor(st.jobs, st.scheduler) if parallel else nullcontext(None)) as pool:
         for round_ in range(st.max_effects):
@@ -387,13 +418,18 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
             if round_ == 0:
                 skipped = rnd.skipped
             ranking.extend(rnd.rows)
+            if rnd.ambiguous:
+                ambiguous.append(rnd.ambiguous)
             if rnd.accepted is None:
                 break
             accepted.append(rnd.accepted)
             history.append(stage)
             stage = rnd.stage
     data = conclude(su, b, stage, accepted, ranking, skipped, train_paths, validate_paths, t_start)
-    return Diagnosis(data, b.stage, stage, su.train, su.validate, su.outputs, history)
+    if ambiguous:
+        data["ambiguous"] = [{k: v for k, v in a.items() if k != "proposed_experiment_text"} for a in ambiguous]
+    return Diagnosis(data, b.stage, stage, su.train, su.validate, su.outputs, history,
+                     [a.get("proposed_experiment_text", "") for a in ambiguous])
 
 
 def _param(judged, name):

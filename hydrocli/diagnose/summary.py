@@ -35,6 +35,20 @@ def write_json(diag, path: Path) -> None:
     Y.write_atomic(path, json.dumps(_finite(data), indent=1, allow_nan=False))
 
 
+def write_proposals(diag, out_dir: Path) -> list[Path]:
+    """Each proposed discriminating experiment as ``proposed_experiment_N.yaml`` (named in
+    diagnosis.json's ``ambiguous`` entries)."""
+    paths = []
+    for i, (amb, text) in enumerate(zip(diag.data.get("ambiguous", []), diag.proposed_experiments), 1):
+        if not text:
+            continue
+        path = Path(out_dir) / f"proposed_experiment_{i}.yaml"
+        Y.write_atomic(path, text)
+        amb.setdefault("proposed_experiment", {})["file"] = path.name
+        paths.append(path)
+    return paths
+
+
 def write_augmented(diag, path: Path) -> None:
     """The final machine (accepted effects as real components/options, identified values)."""
     text = augment.text_of(diag.final.net)
@@ -92,7 +106,16 @@ def console_summary(diag) -> str:
             for alt in a.get("alternatives", []):
                 lines.append(f"  Nearly as good: {alt['effect'].replace('_', ' ')} on '{alt['component']}' "
                              f"(ΔBIC {alt['delta_bic']:+.0f}); these data barely tell the two apart.")
-    elif d["verdict"] == "unexplained_mismatch":
+    for amb in d.get("ambiguous", []):
+        a, b = amb["effects"]
+        prop = amb.get("proposed_experiment")
+        lines.append(f"Ambiguous: {a.replace('_', ' ')} and {b.replace('_', ' ')} explain these data about equally "
+                     f"well (ΔBIC {amb['delta_bic'][0]:+.0f} against {amb['delta_bic'][1]:+.0f}).")
+        if prop:
+            z = ", ".join(f"{o} {v:.1f} σ" for o, v in sorted(prop["z"].items(), key=lambda kv: -kv[1])[:3])
+            lines.append(f"  A test that separates them: {prop['description']} ({prop.get('file', '')}); predicted "
+                         f"difference between the two models: {z}. Record it and diagnose again with it added.")
+    if not d["accepted"] and d["verdict"] == "unexplained_mismatch":
         u = d.get("unexplained", {})
         outs = ", ".join(f"{o} {v['esr_validation']:.3g} % (noise {v['noise_floor']:.2g} %)"
                          for o, v in u.get("outputs", {}).items())
@@ -100,7 +123,7 @@ def console_summary(diag) -> str:
         lines.append(f"Unexplained mismatch: no candidate passes, yet the validation error stays above the noise in "
                      f"{outs}" + (f", concentrated in {regs}" if regs else "") + ". The model misses something the "
                      "catalogue cannot express (or a fixed parameter is far off).")
-    else:
+    elif not d["accepted"]:
         best = d["ranking"][0] if d["ranking"] else None
         tail = f" (best candidate {best['effect']}: {'; '.join(best.get('reasons', [])) or 'not re-identified'})" \
             if best else ""
