@@ -124,3 +124,30 @@ def test_diagnosis_json_is_strict(tmp_path):
     text = (tmp_path / "d.json").read_text()
     assert json.loads(text) == {"a": None, "b": [1.0, None], "c": {"d": None}}
     assert "NaN" not in text and "Infinity" not in text
+
+
+def test_discriminating_design_separates_two_models_and_loads(tmp_path):
+    """Two EHA models that differ only in the oil stiffness: the chosen design predicts a
+    difference many σ large in a pressure or motion output, and its YAML loads as a designed
+    experiment. Identical models predict no difference on any design (discrimination 0)."""
+    from hydrocli.diagnose import design
+    from hydrocli.experiments.experiment_file import load_experiment_file, load_all
+    from hydrocli.model.builder import build_model
+    net = load_netlist(ROOT / "machines" / "eha_testbench.yaml")
+    model = build_model(net)
+    train = load_all(ROOT / "experiments" / "quickstart" / "train.yaml", model)
+    assert design.command_inputs(net) == {"u"}
+    ds = design.designs(model, net, train)
+    assert any(d.name.startswith("ramp_") for d in ds) and any(d.name.startswith("sine_") for d in ds)
+    p = model.p0
+    q = p.copy()
+    q[model.param_index("fluid.beta" if "fluid.beta" in model.param_names else "cylinder.beta")] *= 0.3
+    sigma = {"P1": 1.5e4, "P2": 1.5e4, "v": 1e-3}
+    same = design.propose(("a", model, p), ("b", model, p), net, train, sigma, tmp_path / "w1", "eha")
+    assert same["discrimination"] == pytest.approx(0.0, abs=1e-9)
+    best = design.propose(("a", model, p), ("b", model, q), net, train, sigma, tmp_path / "w2", "eha")
+    assert best["discrimination"] > 0 and max(best["z"].values()) > 3.0
+    path = tmp_path / "proposed.yaml"
+    path.write_text(best["text"])
+    e = load_experiment_file(path, model)
+    assert e.t_out[-1] == pytest.approx(design.DURATION, rel=1e-3)
