@@ -257,7 +257,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     scores = _screen(stage, cands, texts, common, n_eff, pool, round_, progress)
     order = sorted(cands, key=lambda c: -scores[c.key]["dr2"])
     n_fit = st.top if round_ == 0 else max(1, st.top - 1)   # later rounds: residual already small
-    best = [c for c in order if scores[c.key]["error"] is None][:n_fit]
+    best = shortlist([c for c in order if scores[c.key]["error"] is None], scores, n_fit)
     _log(progress, "  best: " + ", ".join(f"{c.key} ({100 * scores[c.key]['dr2']:.1f} %)" for c in best))
     control = dict(common, key=CONTROL, text=augment.text_of(stage.net), validate=validate,
                    max_evals=st.candidate_evals, n_eff=n_eff)
@@ -304,6 +304,24 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     _log(progress, f"  accepted {c.effect} on '{c.component}': validation ESR {_fmt(stage.esr_validation)} "
                    f"→ {_fmt(new.esr_validation)}")
     return out
+
+
+RIVAL_P = 1e-3      # a balance whose best candidate's score test is significant at this level is fitted too
+
+
+def shortlist(order: list[Candidate], scores: dict, n_fit: int) -> list[Candidate]:
+    """The candidates to re-identify: the ``n_fit`` best by score, plus the best candidate of
+    measurement) whose score test is significant (p < ``RIVAL_P``). Effects that act in
+    different balances can mimic each other over the conditions recorded (air in the chamber
+    against a compliant mount, a line against a sensor lag); a screening score alone, a
+    linearisation at one probe value, must not decide between them — the fits do."""
+    picked = list(order[:n_fit])
+    seen = {c.equation for c in picked}
+    for c in order[n_fit:]:
+        if c.equation not in seen and scores[c.key]["p_value"] < RIVAL_P:
+            picked.append(c)
+            seen.add(c.equation)
+    return picked
 
 
 def _screen(stage: Stage, cands: list[Candidate], texts: dict, common: dict, n_eff: float, pool, round_: int,

@@ -66,8 +66,18 @@ class CylinderFamily(Family):
         desc = ("undissolved air lowers the chamber stiffness at low pressure (log scale up to 30 %: an "
                 "isentropic fit of isothermal, partly dissolving air needs more)")
         if name is not None:
+            # the air law's shape is identified with its amount (companions): polytropic exponent
+            # between isothermal small bubbles and isentropic, and Henry's-law dissolution
+            # (Gholizadeh, Burton & Schoenau 2011): a fixed law fits a real mixture worse than a
+            # compliant mount does, and the mount would win for the wrong reason
+            shape = []
+            if act.param("air_exponent"):
+                shape.append(NewParam(act.param("air_exponent"), 1.2, (1.0, 1.4), (1.0, 1.4), 1.2, primary=False, ref=1.2))
+            if act.param("air_dissolve"):
+                shape.append(NewParam(act.param("air_dissolve"), 5e7, (2e5, 5e7), (2e5, 5e7), 5e7, True, primary=False,
+                                      ref=5e7))
             return self.parameter_candidate(
-                ctx, "entrained_air", act.name, [NewParam(name, 1e-4, (1e-5, 0.3), (1e-3, 0.3), 0.03, True)],
+                ctx, "entrained_air", act.name, [NewParam(name, 1e-4, (1e-5, 0.3), (1e-3, 0.3), 0.03, True)] + shape,
                 "continuity", desc)
         return _air_volumes(ctx, act, [a, b], desc)
 
