@@ -306,19 +306,25 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     return out
 
 
-RIVAL_P = 1e-3      # a balance whose best candidate's score test is significant at this level is fitted too
+RIVAL_P = 1e-3      # a balance whose best candidate's score test is significant at this level …
+RIVAL_SHARE = 1 / 3  # … and explains at least a third of what the top candidate explains is fitted too
 
 
 def shortlist(order: list[Candidate], scores: dict, n_fit: int) -> list[Candidate]:
     """The candidates to re-identify: the ``n_fit`` best by score, plus the best candidate of
-    measurement) whose score test is significant (p < ``RIVAL_P``). Effects that act in
+    measurement) that competes: its score test is significant (p < ``RIVAL_P``) and it explains
+    at least ``RIVAL_SHARE`` of what the top candidate explains. Effects that act in
     different balances can mimic each other over the conditions recorded (air in the chamber
     against a compliant mount, a line against a sensor lag); a screening score alone, a
     linearisation at one probe value, must not decide between them — the fits do."""
     picked = list(order[:n_fit])
+    if not order:
+        return picked
+    top = scores[order[0].key]["dr2"]
     seen = {c.equation for c in picked}
     for c in order[n_fit:]:
-        if c.equation not in seen and scores[c.key]["p_value"] < RIVAL_P:
+        if (c.equation not in seen and scores[c.key]["p_value"] < RIVAL_P
+                and scores[c.key]["dr2"] >= RIVAL_SHARE * top):
             picked.append(c)
             seen.add(c.equation)
     return picked

@@ -151,3 +151,16 @@ def test_discriminating_design_separates_two_models_and_loads(tmp_path):
     path.write_text(best["text"])
     e = load_experiment_file(path, model)
     assert e.t_out[-1] == pytest.approx(design.DURATION, rel=1e-3)
+
+
+def test_shortlist_adds_the_best_competing_candidate_of_each_other_balance():
+    from hydrocli.diagnose.engine import shortlist
+    C = lambda key, eq: SimpleNamespace(key=key, equation=eq)
+    order = [C("mount", "force"), C("hyst", "valve"), C("lag", "measurement"), C("delay", "signal"),
+             C("air", "continuity"), C("leak", "continuity"), C("stop", "force")]
+    dr2 = {"mount": 0.41, "hyst": 0.32, "lag": 0.30, "delay": 0.09, "air": 0.20, "leak": 0.19, "stop": 0.3}
+    scores = {k: {"dr2": v, "p_value": 1e-9} for k, v in dr2.items()}
+    keys = [c.key for c in shortlist(order, scores, 3)]
+    assert keys == ["mount", "hyst", "lag", "air"]   # air competes (≥ 1/3 of the top), delay does not
+    scores["air"]["p_value"] = 0.2                    # not significant: not fitted
+    assert [c.key for c in shortlist(order, scores, 3)] == ["mount", "hyst", "lag", "leak"]
