@@ -324,7 +324,7 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component comp, const fmi2ValueRefer
 {
     Inst *c = (Inst *)comp;
     double vx[NXA], vu[NUA], x1[NXA], u1[NUA], f0[NXA], f1[NXA], y0[NYA], y1[NYA];
-    double scale = 1.0, vmax = 0.0, eps;
+    double eps;
     int i, st, fd_x;
     size_t k;
     if (!allowed(c, "fmi2GetDirectionalDerivative", M_INIT | M_EVENT | M_CONT | M_STEP)) return fmi2Error;
@@ -344,16 +344,17 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component comp, const fmi2ValueRefer
 #else
     fd_x = 1;
 #endif
+    /* step along the direction: each perturbed component moves by about sqrt(eps) of its size */
+    eps = HUGE_VAL;
     for (i = 0; i < HY_NX; ++i) {
-        const double a = fabs(c->s.x[i]) / HY_FMU_NOMINAL[i];
-        if (fabs(vx[i]) / HY_FMU_NOMINAL[i] > vmax) vmax = fabs(vx[i]) / HY_FMU_NOMINAL[i];
-        if (a > scale) scale = a;
+        const double a = fabs(c->s.x[i]) > HY_FMU_NOMINAL[i] ? fabs(c->s.x[i]) : HY_FMU_NOMINAL[i];
+        if (vx[i] != 0.0 && a / fabs(vx[i]) < eps) eps = a / fabs(vx[i]);
     }
     for (i = 0; i < HY_NU; ++i) {
-        if (fabs(vu[i]) > vmax) vmax = fabs(vu[i]);
-        if (fabs(c->s.u[i]) > scale) scale = fabs(c->s.u[i]);
+        const double a = fabs(c->s.u[i]) > 1.0 ? fabs(c->s.u[i]) : 1.0;
+        if (vu[i] != 0.0 && a / fabs(vu[i]) < eps) eps = a / fabs(vu[i]);
     }
-    eps = vmax > 0.0 ? 1.4901161193847656e-08 * scale / vmax : 0.0;
+    eps = isfinite(eps) ? 1.4901161193847656e-08 * eps : 0.0;
     for (i = 0; i < HY_NX; ++i) x1[i] = c->s.x[i] + eps * vx[i];
     for (i = 0; i < HY_NU; ++i) u1[i] = c->s.u[i] + eps * vu[i];
     for (k = 0; k < nU; ++k) dvU[k] = 0.0;
