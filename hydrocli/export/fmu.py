@@ -2,8 +2,9 @@
 
 The sources are the generated model (``Model.c_source``), the integrator exactly as
 ``hydro simulate`` compiles it (``solve.compiled.integrator_source``), a configuration
-header written here (GUID, start values, state nominals, guard messages) and the FMI glue
-template (``templates/hydro_fmi2.c`` or ``hydro_fmi3.c``) with the FMI headers. The binary
+header written here (GUID, start values, state nominals, guard messages), the instance logic
+(``templates/hydro_fmu_core.c``) and the FMI glue (``hydro_fmi2.c`` or ``hydro_fmi3.c``) with
+the FMI headers. The binary
 is built with the same compiler flags as the simulator's cache, so FMU and ``hydro simulate``
 evaluate the same floating-point code. The archive is written to a temporary file and
 renamed (never a half-written FMU).
@@ -97,6 +98,7 @@ def config_header(model: Model, x0: np.ndarray, guid: str, rtol: float) -> str:
 def _sources(model: Model, x0: np.ndarray, fmi: int, rtol: float) -> tuple[dict[str, str], str]:
     glue = f"hydro_fmi{fmi}.c"
     files = {"model.c": model.c_source, "hy_integrator.c": integrator_source(),
+             "hydro_fmu_core.c": (_TEMPLATES / "hydro_fmu_core.c").read_text(encoding="utf-8"),
              glue: (_TEMPLATES / glue).read_text(encoding="utf-8")}
     for h in sorted(_FMI.glob(f"fmi{fmi}*.h")):
         files[h.name] = h.read_text(encoding="utf-8")
