@@ -112,6 +112,14 @@ def _sources(model: Model, x0: np.ndarray, fmi: int, rtol: float) -> tuple[dict[
     return files, guid
 
 
+def build_description(ident: str, glue: str) -> str:
+    """FMI 3.0 sources/buildDescription.xml: one C file (it includes the others), libm."""
+    return ('<?xml version="1.0" encoding="UTF-8"?>\n<fmiBuildDescription fmiVersion="3.0">\n'
+            f'  <BuildConfiguration modelIdentifier="{ident}">\n'
+            f'    <SourceFileSet language="C99">\n      <SourceFile name="{glue}"/>\n    </SourceFileSet>\n'
+            '    <Library name="m"/>\n  </BuildConfiguration>\n</fmiBuildDescription>\n')
+
+
 def _platform_dir(fmi: int) -> str:
     if sys.platform.startswith("linux") and platform.machine() in ("x86_64", "AMD64"):
         return "linux64" if fmi == 2 else "x86_64-linux"
@@ -167,6 +175,7 @@ def export_fmu(model: Model, out: str | Path, opts: ExportOptions | None = None,
                 for name in sorted(files):
                     z.write(src / name, f"sources/{name}")
                 if opts.fmi == 3:
+                    z.writestr("sources/buildDescription.xml", build_description(ident, glue))
                     z.write(src / "FMI_HEADERS_LICENSE.txt", "documentation/licenses/FMI_HEADERS_LICENSE.txt")
             os.replace(tmp_fmu, out)
         finally:

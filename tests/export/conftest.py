@@ -39,7 +39,7 @@ def fmpy_inputs(monkeypatch):
 
     def init(self, *a, **k):
         orig_init(self, *a, **k)
-        self.continuous = [c._replace(derivatives=(c_double * len(c.vrs))()) for c in self.continuous]
+        self.continuous = [c._replace(derivatives=(c_double * len(c.vrs))()) for c in getattr(self, "continuous", [])]
 
     orig_f = sundials.CVodeSolver.f
 

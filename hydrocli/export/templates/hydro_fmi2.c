@@ -112,30 +112,9 @@ NO_VARS(fmi2SetString, fmi2String, const)
 
 /* --------------------------------------------------------- FMU state */
 
-fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *out)
-{
-    State *s;
-    if (!comp || !out) return fmi2Error;
-    s = (State *)(*out ? *out : malloc(sizeof(State)));
-    if (!s) return fmi2Error;
-    *s = C_->s;
-    *out = s;
-    return fmi2OK;
-}
-
-fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate in)
-{
-    if (!comp || !in) return fmi2Error;
-    C_->s = *(State *)in;
-    return fmi2OK;
-}
-
-fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *st)
-{
-    (void)comp;
-    if (st) { free(*st); *st = NULL; }
-    return fmi2OK;
-}
+fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *out) { return (fmi2Status)state_get(C_, out); }
+fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate in) { return (fmi2Status)state_set(C_, in); }
+fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *st) { (void)comp; return (fmi2Status)state_free(st); }
 
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate st, size_t *size)
 {
@@ -147,21 +126,12 @@ fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate st, size_
 fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate st, fmi2Byte data[], size_t size)
 {
     (void)comp;
-    if (!st || size < sizeof(State)) return fmi2Error;
-    memcpy(data, st, sizeof(State));
-    return fmi2OK;
+    return (fmi2Status)state_serialize(st, (unsigned char *)data, size);
 }
 
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte data[], size_t size, fmi2FMUstate *st)
 {
-    if (size != sizeof(State)) {
-        logf_(C_, ST_ERROR, "logStatusError", "fmi2DeSerializeFMUstate: wrong size");
-        return fmi2Error;
-    }
-    if (!*st) *st = malloc(sizeof(State));
-    if (!*st) return fmi2Error;
-    memcpy(*st, data, sizeof(State));
-    return fmi2OK;
+    return (fmi2Status)state_deserialize(C_, (const unsigned char *)data, size, st);
 }
 
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component comp, const fmi2ValueReference vU[], size_t nU,

@@ -291,3 +291,48 @@ static int do_step(Inst *c, double t, double h)
     if (stats[7] > 0.0) c->s.h_last = stats[7];
     return ST_OK;
 }
+
+/* ---- FMU state: a copy of State (plain data, so serialisation is a memcpy) ---- */
+
+static int state_get(Inst *c, void **out)
+{
+    State *s;
+    if (!c || !out) return ST_ERROR;
+    s = (State *)(*out ? *out : malloc(sizeof(State)));
+    if (!s) return ST_ERROR;
+    *s = c->s;
+    *out = s;
+    return ST_OK;
+}
+
+static int state_set(Inst *c, const void *in)
+{
+    if (!c || !in) return ST_ERROR;
+    c->s = *(const State *)in;
+    return ST_OK;
+}
+
+static int state_free(void **st)
+{
+    if (st) { free(*st); *st = NULL; }
+    return ST_OK;
+}
+
+static int state_serialize(const void *st, unsigned char *data, size_t size)
+{
+    if (!st || size < sizeof(State)) return ST_ERROR;
+    memcpy(data, st, sizeof(State));
+    return ST_OK;
+}
+
+static int state_deserialize(Inst *c, const unsigned char *data, size_t size, void **st)
+{
+    if (size != sizeof(State)) {
+        logf_(c, ST_ERROR, "logStatusError", "DeserializeFMUState: %zu bytes, expected %zu", size, sizeof(State));
+        return ST_ERROR;
+    }
+    if (!*st) *st = malloc(sizeof(State));
+    if (!*st) return ST_ERROR;
+    memcpy(*st, data, sizeof(State));
+    return ST_OK;
+}
