@@ -19,8 +19,10 @@ def register(app: typer.Typer) -> None:
         rtol: float = typer.Option(1e-6, "--rtol", help="default tolerance of the FMU's integrator (co-simulation)"),
         stop_time: float = typer.Option(1.0, "--stop-time", help="DefaultExperiment stop time [s]"),
     ) -> None:
-        """Export the machine as an FMU (FMI 2.0 CS/ME or FMI 3.0 CS) with its current
-        parameter values (identified values included) as start values."""
+        """Export the machine as an FMU (FMI 2.0 CS/ME, FMI 3.0 CS).
+
+        Current parameter values (identified values included) become start values; the FMU
+        holds the C sources and a Linux x86-64 binary built now."""
         from .main import run_guarded
         run_guarded(_run, machine, fmu, fmi, kind, sets, rtol, stop_time)
 

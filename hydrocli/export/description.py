@@ -29,7 +29,6 @@ class FmuInfo:
     tool: str
     rtol: float
     stop_time: float
-    has_jacobian: bool
     source_files: tuple[str, ...]
 
 
@@ -42,7 +41,7 @@ def naming_convention(layout: FmuLayout) -> str:
     return "structured" if all(_STRUCTURED.match(v.name) for v in layout.variables) else "flat"
 
 
-def _unit_definitions(root: ET.Element, table: UnitTable, fmi3: bool) -> None:
+def _unit_definitions(root: ET.Element, table: UnitTable) -> None:
     if not table.by_key:
         return
     ud = ET.SubElement(root, "UnitDefinitions")
@@ -119,7 +118,7 @@ def model_description_fmi2(layout: FmuLayout, info: FmuInfo) -> str:
                            maxOutputDerivativeOrder="0", **flags)
         _source_files(cs, info)
     table, units = _units(layout)
-    _unit_definitions(root, table, fmi3=False)
+    _unit_definitions(root, table)
     _common_tail(root, info)
     mv = ET.SubElement(root, "ModelVariables")
     index = {}
@@ -166,7 +165,7 @@ def model_description_fmi3(layout: FmuLayout, info: FmuInfo) -> str:
                   canReturnEarlyAfterIntermediateUpdate="false", hasEventMode="false",
                   providesIntermediateUpdate="false")
     table, units = _units(layout)
-    _unit_definitions(root, table, fmi3=True)
+    _unit_definitions(root, table)
     _common_tail(root, info)
     mv = ET.SubElement(root, "ModelVariables")
     # FMI 3.0 requires the independent variable

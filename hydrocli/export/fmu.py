@@ -156,7 +156,7 @@ def export_fmu(model: Model, out: str | Path, opts: ExportOptions | None = None,
     info = FmuInfo(model_name=model.name, identifier=ident, guid=guid,
                    description=f"hydrocli machine '{model.name}' (netlist sha256 {model.netlist_sha[:16]})",
                    kinds=kinds, tool=f"hydrocli {__version__}", rtol=opts.rtol, stop_time=opts.stop_time,
-                   has_jacobian="#define HY_HAS_JAC" in model.c_source, source_files=(glue,))
+                   source_files=(glue,))
     xml = model_description_fmi2(layout, info) if opts.fmi == 2 else model_description_fmi3(layout, info)
     out.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="hydro_fmu_") as tmp:

@@ -4,10 +4,10 @@ co-simulation (the FMU's own Rosenbrock integrator) and in model exchange (fmpy'
 an independent integrator, on the FMU's derivatives)."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
-
-from conftest import ROOT, windowed_experiment
 
 from hydrocli.api import load_experiment, load_machine
 from hydrocli.export import ExportOptions
@@ -15,6 +15,7 @@ from hydrocli.export import ExportOptions
 fmpy = pytest.importorskip("fmpy")
 from fmpy.validation import validate_fmu  # noqa: E402
 
+ROOT = Path(__file__).resolve().parents[2]
 MACHINE = ROOT / "machines/eha_testbench.yaml"
 
 
@@ -33,7 +34,7 @@ def test_fmpy_validation_finds_no_problem(eha, kind):
 @pytest.mark.parametrize("kind", ["cs", "me"])
 def test_fmu_agrees_with_hydro_simulate(eha, kind, fmu_tools, tmp_path):
     m, fmus = eha
-    exp_file = windowed_experiment(tmp_path, ROOT / "experiments/quickstart/validate.yaml", "3 s")
+    exp_file = fmu_tools.windowed_experiment(tmp_path, ROOT / "experiments/quickstart/validate.yaml", "3 s")
     ref = fmu_tools.hydro_simulate(MACHINE, str(exp_file), tmp_path / "ref.h5")
     res = fmu_tools.run_fmu(fmus[kind], m.model, load_experiment(exp_file, m), kind=kind)
     err = fmu_tools.worst_error(res, ref, m.model.output_names)
@@ -43,7 +44,7 @@ def test_fmu_agrees_with_hydro_simulate(eha, kind, fmu_tools, tmp_path):
 
 def test_parameter_changed_through_the_fmu_takes_effect(eha, fmu_tools, tmp_path):
     m, fmus = eha
-    exp_file = windowed_experiment(tmp_path, ROOT / "experiments/quickstart/validate.yaml", "1.5 s")
+    exp_file = fmu_tools.windowed_experiment(tmp_path, ROOT / "experiments/quickstart/validate.yaml", "1.5 s")
     exp = load_experiment(exp_file, m)
     new = {"load.m": 150.0, "cylinder.beta": 0.9e9}
     ref = fmu_tools.hydro_simulate(MACHINE, str(exp_file), tmp_path / "ref.h5",
@@ -98,3 +99,14 @@ def test_directional_derivatives_match_difference_quotients(eha, tmp_path):
         assert np.all(np.abs(dd - fd) <= tol), (k, dd, fd)
     fmu.terminate()
     fmu.freeInstance()
+
+
+def test_model_guard_stops_the_fmu_with_the_machines_message(tmp_path, capsys):
+    """A stroke overrun (full retract command, small chamber A) is the same located error
+    in the FMU as in hydro simulate: fmi2DoStep fails and logs the guard's message."""
+    m = load_machine(MACHINE, set={"cylinder.V_A0": 6e-5})
+    fmu = m.export_fmu(tmp_path / "overrun.fmu")
+    with pytest.raises(Exception, match="fmi2DoStep"):
+        fmpy.simulate_fmu(str(fmu), stop_time=3.0, output_interval=1e-3,
+                          start_values={"u": -1.0, "Ps": 200e5, "Fext": 0.0})
+    assert "chamber A collapsed" in capsys.readouterr().out

@@ -3,14 +3,15 @@ recording's valve command: agrees with ``hydro simulate`` within 0.1 % of each o
 and its start values are the identified parameter values."""
 from __future__ import annotations
 
-import pytest
+from pathlib import Path
 
-from conftest import ROOT
+import pytest
 
 from hydrocli.api import load_experiment, load_machine
 
 fmpy = pytest.importorskip("fmpy")
 
+ROOT = Path(__file__).resolve().parents[2]
 MACHINE = ROOT / "reports/festo/festo_tp511_identified.yaml"
 RECORDINGS = ROOT.parent / "shared/real/festo_tp511"
 EXPERIMENT = str(ROOT / "experiments/festo/steps_pA.yaml") + "#festo_pA_3V"

@@ -3,15 +3,16 @@ co-simulation has no input derivatives, so recorded inputs would be held between
 communication points) it agrees with ``hydro simulate`` within 0.1 % of each output's range."""
 from __future__ import annotations
 
-import pytest
+from pathlib import Path
 
-from conftest import ROOT
+import pytest
 
 from hydrocli.api import load_experiment, load_machine
 from hydrocli.export import ExportOptions
 
 fmpy = pytest.importorskip("fmpy")
 
+ROOT = Path(__file__).resolve().parents[2]
 MACHINE = ROOT / "machines/eha_testbench.yaml"
 CONSTANT = {"u": 0.05, "Ps": 100e5, "Fext": 200.0}
 

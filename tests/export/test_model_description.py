@@ -3,12 +3,12 @@ value; units with SI base-unit exponents and display units; ModelStructure depen
 that follow the equations; the export command's exit codes."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import zipfile
 
 import pytest
 from typer.testing import CliRunner
-
-from conftest import ROOT
 
 from hydrocli.api import load_machine
 from hydrocli.cli.main import app
@@ -17,6 +17,7 @@ from hydrocli.export import ExportOptions
 fmpy = pytest.importorskip("fmpy")
 from fmpy import read_model_description  # noqa: E402
 
+ROOT = Path(__file__).resolve().parents[2]
 MACHINE = ROOT / "machines/eha_testbench.yaml"
 
 
@@ -69,7 +70,9 @@ def test_model_structure_follows_the_equations(exported):
 
 
 def test_fmu_holds_sources_and_a_linux_binary(exported):
+    from fmpy.validation import validate_fmu
     _, fmu, md = exported
+    assert validate_fmu(str(fmu)) == []                 # model exchange and co-simulation in one FMU
     names = set(zipfile.ZipFile(fmu).namelist())
     ident = md.coSimulation.modelIdentifier
     assert f"binaries/linux64/{ident}.so" in names
