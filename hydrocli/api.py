@@ -125,7 +125,8 @@ class SimulationResult:
 
 @dataclass
 class Fit:
-    """An identification: estimates with standard errors, and the machine with them."""
+    """An identification: estimates with standard errors, and the machine with them (its
+    model carries the exact estimates; its netlist text 6 digits, like ``hydro identify --out``)."""
 
     result: object                  # identify.fit.FitResult
     machine: "Machine"
@@ -176,17 +177,29 @@ class Machine:
         experiments, as ``hydro identify``; ``Fit.machine`` carries the estimates."""
         from .experiments.experiment_file import load_all
         from .identify.fit import fit
-        from .netlist.loader import load_netlist_text
-        from .netlist.writer import set_parameters
-        from .model.builder import build_model
         from .solve.simulate import SolverOptions
         exps = [e for x in experiments for e in ([x] if isinstance(x, Experiment) else load_all(x, self.model))]
         res = fit(self.model, exps, list(free) if free else None, method=method, cost=cost,
                   outputs=list(outputs) if outputs else None, max_evals=max_evals,
                   opts=SolverOptions(rtol=rtol), workers=workers)
-        net = load_netlist_text(set_parameters(self.netlist, dict(zip(res.names, map(float, res.estimates)))),
-                                file=str(self.path))
-        return Fit(res, Machine(self.path, net, build_model(net), self.overrides))
+        return Fit(res, self._with_values(res.p, res.names))
+
+    def _with_values(self, p: np.ndarray, changed: Sequence[str]) -> "Machine":
+        """This machine with parameter vector ``p``: the netlist text gets the changed and the
+        overridden parameters (6 digits, as ``hydro identify --out`` writes), the model the
+        exact values."""
+        from .model.builder import build_model
+        from .netlist.loader import load_netlist_text
+        from .netlist.overrides import parse_assignment
+        from .netlist.writer import set_parameters
+        overridden = (parse_assignment(i)[0] for i in self.overrides)
+        names = [n for n in dict.fromkeys([*changed, *overridden]) if n in self.model.param_names]
+        values = {n: float(p[self.model.param_index(n)]) for n in names}
+        net = load_netlist_text(set_parameters(self.netlist, values), file=str(self.path))
+        model = build_model(net)
+        for info, v in zip(model.params, p):
+            info.value = float(v)
+        return Machine(self.path, net, model)
 
     def export_fmu(self, path: str | Path, opts=None, *, x0: np.ndarray | None = None) -> Path:
         """Write an FMU (default FMI 2.0 co-simulation; ``opts`` an export.ExportOptions)."""

@@ -50,6 +50,8 @@ def _unit_definitions(root: ET.Element, table: UnitTable) -> None:
         if d.exponents is not None:
             ET.SubElement(u, "BaseUnit", {k: str(v) for k, v in d.exponents.items()})
         for name, (factor, offset) in sorted(d.display.items()):
+            if name == d.name:
+                continue
             attrs = {"name": name, "factor": _num(factor)}
             if offset:
                 attrs["offset"] = _num(offset)
@@ -62,8 +64,8 @@ def _units(layout: FmuLayout) -> tuple[UnitTable, dict[int, tuple[str, str | Non
     out = {}
     for v in layout.variables:
         k = keys[v.vr]
-        out[v.vr] = (table.resolve(k) if k != "" else "",
-                     v.display_unit if table.has_display(k, v.display_unit) else None)
+        unit = table.resolve(k) if k != "" else ""
+        out[v.vr] = (unit, v.display_unit if table.has_display(k, v.display_unit) and v.display_unit != unit else None)
     return table, out
 
 
