@@ -56,16 +56,30 @@ def test_parameter_changed_through_the_fmu_takes_effect(eha, fmu_tools, tmp_path
     assert fmu_tools.worst_error(base, ref, ["P1"])["P1"] > 1e-2   # the change matters: > 1 % of P1's range
 
 
-def test_directional_derivatives_match_difference_quotients(eha, tmp_path):
+@pytest.mark.parametrize("analytic_jacobian", [True, False])
+def test_directional_derivatives_match_difference_quotients(eha, tmp_path, analytic_jacobian):
     """∂(der)/∂(states, inputs) and ∂(outputs)/∂(states, inputs) from
-    fmi2GetDirectionalDerivative against central differences of fmi2GetDerivatives/GetReal."""
-    from fmpy import extract, read_model_description
+    fmi2GetDirectionalDerivative against central differences of fmi2GetDerivatives/GetReal,
+    with the analytic Jacobian and without it (large models: hy_jac is not generated)."""
+    if analytic_jacobian:
+        m, fmu_path = eha[0], eha[1]["me"]
+    else:
+        from hydrocli.model.codegen import generate_c
+        m = load_machine(MACHINE)
+        m.model._c_source = generate_c(m.model.equations, m.model.name, analytic_jacobian=False)
+        fmu_path = m.export_fmu(tmp_path / "nojac.fmu", ExportOptions(kind="me"))
+    assert ("#define HY_HAS_JAC" in m.model.c_source) == analytic_jacobian
+    _check_directional(m, fmu_path, tmp_path)
+
+
+def _check_directional(m, fmu_path, tmp_path):
     from ctypes import c_double
 
+    from fmpy import extract, read_model_description
+
     from fmpy.fmi2 import FMU2Model
-    m, fmus = eha
-    md = read_model_description(str(fmus["me"]))
-    unzipped = extract(str(fmus["me"]), unzipdir=str(tmp_path / "me"))
+    md = read_model_description(str(fmu_path))
+    unzipped = extract(str(fmu_path), unzipdir=str(tmp_path / "me"))
     fmu = FMU2Model(guid=md.guid, unzipDirectory=unzipped, modelIdentifier=md.modelExchange.modelIdentifier,
                     instanceName="jac")
     fmu.instantiate()
