@@ -42,10 +42,6 @@ class FmuLayout:
     derivatives: list[int]
     dependencies: dict[int, list[int]] = field(default_factory=dict)
 
-    @property
-    def by_vr(self) -> dict[int, FmuVariable]:
-        return {v.vr: v for v in self.variables}
-
 
 def _limits(p) -> tuple[float | None, float | None]:
     """min/max of a parameter: the physical limits, widened to contain the bounds and value
