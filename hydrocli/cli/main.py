@@ -11,15 +11,24 @@ import typer
 
 from ..errors import HydroError
 
-COMMANDS = ("check", "components", "schema", "simulate", "identify", "validate", "report", "diagnose", "bench")
+COMMANDS = ("check", "components", "schema", "simulate", "identify", "validate", "report", "diagnose", "export", "bench")
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="Model, simulate, identify, validate and diagnose hydraulic machines.")
 _state = {"debug": False}
 
 
+def _print_version(value: bool) -> None:
+    if value:
+        from .. import __version__
+        typer.echo(f"hydrocli {__version__}")
+        raise typer.Exit(0)
+
+
 @app.callback()
-def _root(debug: bool = typer.Option(False, "--debug", help="show tracebacks on errors")) -> None:
+def _root(debug: bool = typer.Option(False, "--debug", help="show tracebacks on errors"),
+          version: bool = typer.Option(False, "--version", callback=_print_version, is_eager=True,
+                                       help="print the version and exit")) -> None:
     _state["debug"] = debug
 
 
