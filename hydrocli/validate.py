@@ -16,7 +16,6 @@ recorded) are derived from the recording (:func:`derive_measured`).
 """
 from __future__ import annotations
 
-import difflib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -25,6 +24,7 @@ import numpy as np
 from .errors import DataError, Location, Problem
 from .metrics import all_metrics
 from .results import RunResult
+from .suggest import suggest
 
 
 @dataclass
@@ -134,7 +134,7 @@ def load_thresholds(path: str | Path) -> Thresholds:
 
     for key in doc:
         if key not in ("max_esr", "experiments"):
-            raise DataError(Problem(f"unknown key '{key}' in validation file{_suggest(str(key), ['max_esr', 'experiments'])}",
+            raise DataError(Problem(f"unknown key '{key}' in validation file{suggest(str(key), ['max_esr', 'experiments'])}",
                                     key_loc(doc, key, path, str(key)), "allowed keys: max_esr, experiments"))
     th = Thresholds(table(doc["max_esr"], "max_esr") if "max_esr" in doc else {}, {}, path)
     exps = doc.get("experiments") or {}
@@ -151,13 +151,8 @@ def check_outputs(th: Thresholds, known: list[str]) -> None:
     """Refuse thresholds on outputs the machine does not have (typos must not pass CI)."""
     bad = sorted(th.outputs() - set(known))
     if bad:
-        raise DataError([Problem(f"threshold for unknown output '{b}'{_suggest(b, known)}", Location(th.source),
+        raise DataError([Problem(f"threshold for unknown output '{b}'{suggest(b, known)}", Location(th.source),
                                  f"the machine's outputs are: {', '.join(known)}") for b in bad])
-
-
-def _suggest(name: str, choices) -> str:
-    close = difflib.get_close_matches(name, list(choices), n=3, cutoff=0.6)
-    return " (did you mean " + " or ".join(f"'{c}'" for c in close) + "?)" if close else ""
 
 
 # -- scoring ----------------------------------------------------------------------------

@@ -5,7 +5,6 @@ Registering a type is one decorator; modules of the library register themselves 
 """
 from __future__ import annotations
 
-import difflib
 import importlib
 import pkgutil
 
@@ -47,10 +46,3 @@ def all_types() -> dict[str, type[Component]]:
     load_library()
     return dict(sorted(_TYPES.items()))
 
-
-def suggest(name: str, choices) -> str:
-    """' (did you mean …?)' or an empty string."""
-    close = difflib.get_close_matches(name, list(choices), n=3, cutoff=0.6)
-    if not close:
-        return ""
-    return " (did you mean " + " or ".join(f"'{c}'" for c in close) + "?)"

@@ -101,7 +101,7 @@ def load_experiment_file(path: str | Path, model: Model, name: str | None = None
 
 
 def _check_keys(m, file: str) -> None:
-    from ..components.registry import suggest
+    from ..suggest import suggest
     bad = [k for k in m if k not in KEYS]
     if bad:
         k = bad[0]
@@ -157,7 +157,7 @@ class _Builder(ChannelsMixin, StepsMixin):
         outs = {}
         for n in outputs_spec:
             if n not in self.model.output_names:
-                from ..components.registry import suggest
+                from ..suggest import suggest
                 self.fail(f"'{n}' is not an output of machine {self.model.name}{suggest(str(n), self.model.output_names)}",
                           self.loc("outputs" if "outputs" in s else "measured", n),
                           f"outputs: {', '.join(self.model.output_names)}")
@@ -215,7 +215,7 @@ class _Builder(ChannelsMixin, StepsMixin):
                     exp.initial_from_data = bool(v)
                     continue
                 if k not in self.model.state_names:
-                    from ..components.registry import suggest
+                    from ..suggest import suggest
                     self.fail(f"initial: '{k}' is not a state{suggest(str(k), self.model.state_names)}",
                               self.loc("initial", k), f"states: {', '.join(self.model.state_names)}")
                 unit = self.model.states[self.model.state_index(k)].unit

@@ -17,7 +17,7 @@ from ..components.base import Domain
 from ..errors import Location, Problem
 from ..model import expr as E
 from ..model.context import REFERENCE_NODES, Assembly, NodeInfo, across_name, position_name
-from ..components.registry import suggest
+from ..suggest import suggest
 
 
 def check_domains(asm: Assembly, port_domains: dict[tuple[str, str], Domain],

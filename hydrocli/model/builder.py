@@ -13,6 +13,7 @@ import hashlib
 import numpy as np
 
 from ..components import registry
+from ..suggest import suggest
 from ..components.base import Domain
 from ..errors import HydroError, NetlistError, ProblemCollector, TopologyError
 from ..graph.topology import check_domains, node_equations
@@ -108,7 +109,7 @@ def _apply_initial(net: Netlist, infos, x0, errs: ProblemCollector) -> None:
     idx = {si.name: i for i, si in enumerate(infos)}
     for name, pv in net.initial.items():
         if name not in idx:
-            errs.add(f"initial value for unknown state '{name}'{registry.suggest(name, idx)}", pv.loc,
+            errs.add(f"initial value for unknown state '{name}'{suggest(name, idx)}", pv.loc,
                      "'hydro check MACHINE' lists the states")
             continue
         try:

@@ -82,7 +82,7 @@ class Model:
         try:
             return self.equations.params.index(name)
         except ValueError:
-            from ..components.registry import suggest
+            from ..suggest import suggest
             from ..errors import NetlistError
             raise NetlistError(f"unknown parameter '{name}'{suggest(name, self.equations.params)}",
                                hint="'hydro check MACHINE' lists the parameters") from None

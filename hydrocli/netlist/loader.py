@@ -8,6 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..components import registry
+from ..suggest import suggest
 from ..errors import HydroError, Location, NetlistError, Problem
 from ..units import dimensionality
 from . import yamldoc as Y
@@ -128,7 +129,7 @@ def _unit_defaults(section, errs: Errors) -> dict[str, str]:
     out: dict[str, str] = {}
     for key, unit, parent, f in _entries(section):
         if key not in UNIT_KEYS:
-            errs.add(f"unknown unit category '{key}'{registry.suggest(str(key), UNIT_KEYS)}",
+            errs.add(f"unknown unit category '{key}'{suggest(str(key), UNIT_KEYS)}",
                      Y.key_loc(parent, key, f, f"units.{key}"), f"categories: {', '.join(UNIT_KEYS)}")
             continue
         try:
@@ -159,7 +160,7 @@ def _load_fluid(section, defaults, errs) -> dict[str, ParamValue]:
     out = {}
     for key, val, parent, f in _entries(section):
         if key not in FLUID_PROPS:
-            errs.add(f"unknown fluid property '{key}'{registry.suggest(str(key), FLUID_PROPS)}",
+            errs.add(f"unknown fluid property '{key}'{suggest(str(key), FLUID_PROPS)}",
                      Y.key_loc(parent, key, f, f"fluid.{key}"), f"fluid properties: {', '.join(FLUID_PROPS)}")
             continue
         pv = param_value(val, FLUID_PROPS[key], _MapWhere(parent, f), key, f"fluid.{key}", defaults, errs)
@@ -174,15 +175,15 @@ def _load_component(name: str, src: CompSource, defaults, fluid, errs) -> Compon
         errs.add(f"component '{name}' must be a mapping with a 'type:'", loc, "e.g. 'tank: {type: tank, ports: {T: n}}'")
         return None
     if "type" not in cmap:
-        near = next((k for k in cmap if registry.suggest(str(k), ["type", "template"])), None)
-        meant = "template" if near and registry.suggest(str(near), ["template"]) else "type"
+        near = next((k for k in cmap if suggest(str(k), ["type", "template"])), None)
+        meant = "template" if near and suggest(str(near), ["template"]) else "type"
         errs.add(f"component '{name}' has no 'type:'" + (f" (is '{near}' a misspelt '{meant}'?)" if near else ""),
                  src.key_loc(near) if near else loc, "add e.g. 'type: orifice'; 'hydro components' lists the types")
         return None
     tname = cmap.get("type")
     cls = registry.get(str(tname))
     if cls is None:
-        errs.add(f"unknown component type '{tname}'{registry.suggest(str(tname), registry.all_types())}",
+        errs.add(f"unknown component type '{tname}'{suggest(str(tname), registry.all_types())}",
                  src.value_loc("type"), "'hydro components' lists the types")
         return None
     ports = _load_ports(name, cls, src, errs)
@@ -192,7 +193,7 @@ def _load_component(name: str, src: CompSource, defaults, fluid, errs) -> Compon
         if key in COMPONENT_KEYS:
             continue
         if key not in known:
-            errs.add(f"{cls.type} '{name}' has no parameter '{key}'{registry.suggest(str(key), known + ['type', 'ports'])}",
+            errs.add(f"{cls.type} '{name}' has no parameter '{key}'{suggest(str(key), known + ['type', 'ports'])}",
                      src.key_loc(key), f"parameters of {cls.type}: {', '.join(known) or 'none'} "
                      f"('hydro components {cls.type}' describes them)")
             continue
@@ -223,7 +224,7 @@ def _load_ports(name, cls, src: CompSource, errs) -> dict[str, str]:
     for port, node in (pmap or {}).items():
         ploc = Y.key_loc(pmap, port, src.file, f"{src.ypath}.ports.{port}")
         if cls.port(str(port)) is None:
-            errs.add(f"{cls.type} has no port '{port}'{registry.suggest(str(port), names)}", ploc,
+            errs.add(f"{cls.type} has no port '{port}'{suggest(str(port), names)}", ploc,
                      f"ports of {cls.type}: {', '.join(names)}")
         elif not isinstance(node, str) or not node.strip():
             errs.add(f"port '{port}' of '{name}' must name a node", ploc, f"e.g. {port}: n_{name}_{port}")
@@ -258,6 +259,6 @@ def _defaults(name, cls, params, fluid, loc, errs) -> bool:
 def _check_keys(m, allowed, file, errs, what="key", ypath="") -> None:
     for k in m:
         if k not in allowed:
-            errs.add(f"unknown {what} '{k}'{registry.suggest(str(k), allowed)}",
+            errs.add(f"unknown {what} '{k}'{suggest(str(k), allowed)}",
                      Y.key_loc(m, k, file, f"{ypath}{k}"), f"allowed: {', '.join(allowed)}")
 

@@ -2,7 +2,7 @@
 ``{value, free, bounds, unit, log, description}`` mapping; converted to SI once, here."""
 from __future__ import annotations
 
-from ..components.registry import suggest
+from ..suggest import suggest
 from ..errors import HydroError, Location, Problem, ProblemCollector, UnitError
 from ..units import dimensionality, same_dimension, to_si
 from . import yamldoc as Y

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from ..components import registry
+from ..suggest import suggest
 from ..errors import HydroError
 from ..units import dimensionality
 from . import yamldoc as Y
@@ -31,7 +32,7 @@ def load_inputs(section, errs) -> dict[str, InputDecl]:
             continue
         bad = [k for k in val if k not in INPUT_KEYS]
         for k in bad:
-            errs.add(f"unknown key '{k}' in input '{key}'{registry.suggest(str(k), INPUT_KEYS)}",
+            errs.add(f"unknown key '{k}' in input '{key}'{suggest(str(k), INPUT_KEYS)}",
                      Y.key_loc(val, k, f), f"allowed: {', '.join(INPUT_KEYS)}")
         hold = str(val.get("hold", "linear"))
         if hold not in ("linear", "zoh"):
@@ -60,7 +61,7 @@ def load_outputs(section, errs) -> dict[str, OutputDecl]:
             val, expr_loc = None, loc
         bad = [k for k in (val or {}) if k not in OUTPUT_KEYS]
         for k in bad:
-            errs.add(f"unknown key '{k}' in output '{key}'{registry.suggest(str(k), OUTPUT_KEYS)}",
+            errs.add(f"unknown key '{k}' in output '{key}'{suggest(str(k), OUTPUT_KEYS)}",
                      Y.key_loc(val, k, f, f"{ypath}.{k}"), f"allowed: {', '.join(OUTPUT_KEYS)}")
         if val is None or ("expr" not in val and not bad):
             errs.add(f"output '{key}' needs an expression, e.g. '{key}: chamber_a.p' or '{{expr: ..., unit: bar}}'",
