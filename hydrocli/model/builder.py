@@ -21,7 +21,7 @@ from ..netlist.model import Netlist
 from ..netlist.normal import normalised_text
 from ..units import dimensionality, to_si
 from . import expr as E
-from .codegen import Equations, order_variables
+from .equations import Equations, order_variables
 from .context import Assembly, Context, NodeInfo
 from .model import Model, ParamInfo, StateInfo
 from .parse import ExprSyntaxError, parse_expression

@@ -11,7 +11,8 @@ import numpy as np
 
 from ..units import si_unit
 from . import expr as E
-from .codegen import Equations, generate_c, generate_numpy
+from .codegen import generate_c, generate_numpy
+from .equations import Equations
 
 
 @dataclass
