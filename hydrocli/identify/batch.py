@@ -21,6 +21,7 @@ from ..errors import HydroError, IdentifyError, Problem
 from ..experiments.experiment import Experiment
 from ..model.model import Model
 from ..solve.simulate import SolverOptions
+from ..solve.library import compiled
 
 
 def fit_job(model: Model, exp: Experiment, free: list[str] | None, options: dict) -> dict:
@@ -121,7 +122,7 @@ def run_batch(model: Model, experiments: list[Experiment], free: list[str] | Non
     names = FreeParameters.from_model(model, free, (options or {}).get("bounds")).names
     opts = dict(options or {})
     opts.setdefault("opts", SolverOptions(rtol=1e-6))
-    model.compiled()                      # compile once in the parent; workers load the cached library
+    compiled(model)                      # compile once in the parent; workers load the cached library
     rows = []
     with executor(jobs, scheduler) as ex:
         futures = [ex.submit(fit_job, model, e, free, opts) for e in experiments]

@@ -122,15 +122,6 @@ class Model:
             self._c_source = generate_c(self.equations, self.name)
         return self._c_source
 
-    def compiled(self):
-        """The compiled library (built on first use, cached on disk)."""
-        if self._compiled is None:
-            from ..solve.compiled import CompiledModel, build_library
-            so = build_library(self.c_source)
-            eq = self.equations
-            self._compiled = CompiledModel(so, len(eq.states), len(eq.params), len(eq.inputs), len(eq.outputs))
-        return self._compiled
-
     def numpy_evaluate(self):
         """``evaluate(t, x, p, u) -> (dx, y, vars, status)`` on floats or arrays."""
         if self._numpy_fn is None:
