@@ -6,7 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .experiments.experiment import Experiment, load_experiment
+from .experiments.experiment import Experiment
+from .experiments.experiment_file import load_experiment
 from .model.builder import build_model
 from .model.model import Model
 from .netlist.loader import load_netlist

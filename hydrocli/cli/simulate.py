@@ -26,7 +26,7 @@ def register(app: typer.Typer) -> None:
 
 def _run(machine, experiment, out, sets, rtol, backend) -> None:
     from ..runner import load_machine, simulate_experiment
-    from ..experiments.experiment import load_experiment
+    from ..experiments.experiment_file import load_experiment
     from ..results import write_result
     from ..solve.simulate import SolverOptions
 

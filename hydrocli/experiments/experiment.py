@@ -1,20 +1,19 @@
 """An experiment: the inputs that drive a machine and the measurements to compare with.
 
-``load_experiment(path, model)`` accepts an experiment YAML file (``file.yaml#name`` picks
-one of several; format in experiment_file.py and docs/experiments.md) or a plain recording
-(.csv/.h5/.mat whose columns are named like the machine's inputs and outputs).
+Loading (an experiment YAML file, ``file.yaml#name``, or a plain recording) is
+``experiments.experiment_file.load_experiment`` / ``load_all``; this module holds the data
+and :func:`experiment_from_recording` (columns named like the machine's inputs/outputs).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
 from ..errors import DataError, Location, Problem
 from ..model.model import Model
 from ..solve.simulate import InputTable
-from .recording import Recording, read_csv
+from .recording import Recording
 
 
 @dataclass
@@ -71,27 +70,6 @@ def _direct_state(model: Model, e) -> str | None:
         e = model.equations.variables.get(name)
         seen += 1
     return None
-
-
-def load_experiment(path: str | Path, model: Model) -> Experiment:
-    """One experiment; ``file.yaml#name`` picks one of several in an experiment file."""
-    text = str(path)
-    if "#" in text and text.split("#", 1)[0].lower().endswith((".yaml", ".yml")):
-        from .experiment_file import load_experiment_file
-        file, name = text.split("#", 1)
-        return load_experiment_file(file, model, name=name)
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix == ".csv":
-        return experiment_from_recording(read_csv(path), model, name=path.stem)
-    if suffix in (".yaml", ".yml"):
-        from .experiment_file import load_experiment_file
-        return load_experiment_file(path, model)
-    if suffix in (".h5", ".hdf5", ".mat"):
-        from .experiment_file import recording_from_file
-        return experiment_from_recording(recording_from_file(path), model, name=path.stem)
-    raise DataError(Problem(f"unknown experiment format '{suffix}' for {path}", Location(str(path)),
-                            "give an experiment .yaml, or a recording .csv/.h5/.mat"))
 
 
 def experiment_from_recording(rec: Recording, model: Model, name: str) -> Experiment:

@@ -18,7 +18,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from hydrocli.experiments.experiment import load_experiment  # noqa: E402
+from hydrocli.experiments.experiment_file import load_experiment  # noqa: E402
 from hydrocli.identify.fit import fit  # noqa: E402
 from hydrocli.metrics import esr  # noqa: E402
 from hydrocli.runner import load_machine, simulate_experiment  # noqa: E402

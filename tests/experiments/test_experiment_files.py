@@ -11,8 +11,7 @@ import scipy.io as sio
 from typer.testing import CliRunner
 
 from hydrocli.errors import DataError
-from hydrocli.experiments.experiment import load_experiment
-from hydrocli.experiments.experiment_file import load_experiment_files, recording_from_file
+from hydrocli.experiments.experiment_file import load_experiment, load_experiment_files, recording_from_file
 
 ROOT = Path(__file__).resolve().parents[2]
 EHA = ROOT / "machines" / "eha_testbench.yaml"
