@@ -24,6 +24,7 @@ import numpy as np
 from .errors import DataError, Location, Problem
 from .metrics import all_metrics
 from .results import RunResult
+from .runfiles import load_run
 from .suggest import suggest
 
 
@@ -240,10 +241,9 @@ def validate_machine(machine, experiments, th: Thresholds, sets=None, opts=None,
 
 def validate_results(paths, th: Thresholds) -> Verdict:
     """Score result files that already hold /outputs and /measured (no simulation)."""
-    from .report.data import load_result
     verdict = Verdict("")
     for path in paths:
-        res = load_result(path)
+        res = load_run(path)
         if not res.measured:
             raise DataError(Problem(f"{path} has no /measured group: nothing to compare with", Location(str(path)),
                                     "simulate with an experiment that records the outputs, or validate the machine "

@@ -73,7 +73,7 @@ def _run(a: dict) -> None:
     if a["batch"]:
         return _batch(a, model, free, bounds, outputs, opts)
     from ..experiments.experiment_file import load_all
-    from ..identify.output import print_fit, progress_bar, write_outputs
+    from .identify_output import print_fit, progress_bar, write_outputs
     if a["stages"]:
         from ..identify.staged import combine, load_stages, run_stages
         stages = load_stages(a["stages"], model)
@@ -149,7 +149,7 @@ def _batch(a, model, free, bounds, outputs, opts) -> None:
                     on_done=lambda i, r: typer.echo(f"  [{i + 1}/{len(exps)}] {r['experiment']}: "
                                                    + (f"cost {r['cost']:.4g} in {r['seconds']:.1f} s" if "error" not in r
                                                       else "FAILED: " + r["error"].splitlines()[0])))
-    from ..identify.output import print_table
+    from .identify_output import print_table
     print_table(res.table_rows())
     res.write_csv(a["out"])
     typer.echo(f"table → {a['out']}")

@@ -27,7 +27,7 @@ def register(app: typer.Typer) -> None:
 def _run(machine, experiment, out, sets, rtol, backend) -> None:
     from ..runner import load_machine, simulate_experiment
     from ..experiments.experiment_file import load_experiment
-    from ..results import write_result
+    from ..runfiles import write_run
     from ..solve.simulate import SolverOptions
 
     t0 = time.perf_counter()
@@ -38,7 +38,7 @@ def _run(machine, experiment, out, sets, rtol, backend) -> None:
     t1 = time.perf_counter()
     res = simulate_experiment(model, exp, opts=SolverOptions(rtol=rtol, backend=backend))
     t2 = time.perf_counter()
-    write_result(out, res)
+    write_run(out, res)
     st = res.solver_stats
     typer.echo(f"simulated {model.name} on {exp.name}: {res.t[-1] - res.t[0]:.3g} s in {t2 - t1:.3g} s "
                f"(load+build {t1 - t0:.2g} s; {st.get('backend', '?')} backend, "
