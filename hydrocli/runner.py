@@ -1,5 +1,5 @@
-"""Shared steps of the commands: load a machine (with --set overrides), build it, load
-experiments, and simulate one experiment into a :class:`~hydrocli.results.RunResult`."""
+"""Shared steps of the commands: load a machine (with --set overrides), build it, and
+simulate one experiment into a :class:`~hydrocli.results.RunResult`."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -7,7 +7,6 @@ from pathlib import Path
 import numpy as np
 
 from .experiments.experiment import Experiment
-from .experiments.experiment_file import load_experiment
 from .model.builder import build_model
 from .model.model import Model
 from .netlist.loader import load_netlist
@@ -22,10 +21,6 @@ def load_machine(path: str | Path, sets: list[str] | None = None) -> tuple[Netli
         from .netlist.loader import apply_overrides
         net = apply_overrides(net, sets)
     return net, build_model(net)
-
-
-def load_experiments(paths, model: Model) -> list[Experiment]:
-    return [load_experiment(p, model) for p in paths]
 
 
 def simulate_experiment(model: Model, exp: Experiment, p: np.ndarray | None = None,

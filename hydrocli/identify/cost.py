@@ -96,10 +96,6 @@ class Objective:
         """Initial state of target i (settled with parameters p when the experiment asks)."""
         return self._x0[i] if self._x0[i] is not None else self.targets[i].exp.x0(self.model, p)
 
-    def simulate_all(self, p: np.ndarray) -> list[np.ndarray]:
-        return [simulate(self.model, t.exp.inputs, t.exp.t_out, p=p, x0=self.x0(i, p), opts=self.opts).Y
-                for i, t in enumerate(self.targets)]
-
     def residuals(self, p: np.ndarray) -> np.ndarray:
         with self._lock:
             self.n_evals += 1

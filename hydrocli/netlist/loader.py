@@ -9,12 +9,13 @@ from pathlib import Path
 
 from ..components import registry
 from ..suggest import suggest
-from ..errors import HydroError, Location, NetlistError, Problem
+from ..errors import HydroError, Location, NetlistError
 from ..units import dimensionality
 from . import yamldoc as Y
 from .model import ComponentDecl, Netlist, ParamValue
 from .overrides import apply_overrides  # noqa: F401  (re-exported for the CLI's --set)
 from .params import Errors, param_value
+from .sections import entries
 from .sections import load_initial as _load_initial
 from .sections import load_inputs as _load_inputs
 from .sections import load_outputs as _load_outputs
@@ -117,17 +118,10 @@ def _merge_into(dst: dict, src: dict) -> None:
             dst[k] = v
 
 
-def _entries(section):
-    """Iterate (key, value, parent_map, file) over a merged mapping section."""
-    if not isinstance(section, dict):
-        return []
-    return [(k, v, parent, f) for k, (v, parent, f) in section.items()]
-
-
 def _unit_defaults(section, errs: Errors) -> dict[str, str]:
     """Map dimensionality → default unit from the file-level ``units:`` mapping."""
     out: dict[str, str] = {}
-    for key, unit, parent, f in _entries(section):
+    for key, unit, parent, f in entries(section):
         if key not in UNIT_KEYS:
             errs.add(f"unknown unit category '{key}'{suggest(str(key), UNIT_KEYS)}",
                      Y.key_loc(parent, key, f, f"units.{key}"), f"categories: {', '.join(UNIT_KEYS)}")
@@ -135,12 +129,8 @@ def _unit_defaults(section, errs: Errors) -> dict[str, str]:
         try:
             out[dimensionality(str(unit))] = str(unit)
         except HydroError as exc:
-            errs.extend(type(exc)([_at(p, Y.value_loc(parent, key, f, f"units.{key}")) for p in exc.problems]))
+            errs.extend(type(exc)([p.at(Y.value_loc(parent, key, f, f"units.{key}")) for p in exc.problems]))
     return out
-
-
-def _at(problem, loc):
-    return Problem(problem.message, loc, problem.hint)
 
 
 class _MapWhere:
@@ -158,7 +148,7 @@ class _MapWhere:
 
 def _load_fluid(section, defaults, errs) -> dict[str, ParamValue]:
     out = {}
-    for key, val, parent, f in _entries(section):
+    for key, val, parent, f in entries(section):
         if key not in FLUID_PROPS:
             errs.add(f"unknown fluid property '{key}'{suggest(str(key), FLUID_PROPS)}",
                      Y.key_loc(parent, key, f, f"fluid.{key}"), f"fluid properties: {', '.join(FLUID_PROPS)}")
