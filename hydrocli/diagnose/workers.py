@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import executor
 from ..model.builder import build_model
 from ..netlist.loader import load_netlist_text
 from . import baseline, residuals, stats
@@ -103,9 +104,6 @@ def fit_one(job: dict) -> dict:
         return {"key": job["key"], "error": f"{type(exc).__name__}: {exc}"}
 
 
-def run_all(fn, jobs: list[dict], n_jobs: int) -> list[dict]:
-    if n_jobs <= 1 or len(jobs) <= 1:
-        return [fn(j) for j in jobs]
-    from concurrent.futures import ProcessPoolExecutor
-    with ProcessPoolExecutor(max_workers=n_jobs) as pool:
-        return list(pool.map(fn, jobs))
+def run_all(fn, jobs: list[dict], n_jobs: int, scheduler: str | None = None) -> list[dict]:
+    """In order; over hydrocli.executor (process pool, or Dask with ``scheduler``)."""
+    return executor.run_all(fn, jobs, n_jobs, scheduler)
