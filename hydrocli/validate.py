@@ -16,7 +16,7 @@ recorded) are derived from the recording (:func:`derive_measured`).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -228,7 +228,7 @@ def validate_machine(machine, experiments, th: Thresholds, sets=None, opts=None,
     verdict = Verdict(model.name, notes=[f"warning: {w}" for w in model.warnings])
     for exp in (e for path in experiments for e in load_all(path, model)):
         derived = derive_measured(model, exp.measured)
-        exp.measured.update(derived)
+        exp = replace(exp, measured={**exp.measured, **derived})       # a copy: experiments are never mutated
         if derived:
             verdict.notes.append(f"{exp.name}: {', '.join(derived)} derived from the recorded outputs")
         res = simulate_experiment(model, exp, opts=opts)

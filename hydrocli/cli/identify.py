@@ -77,18 +77,16 @@ def _run(a: dict) -> None:
     if a["stages"]:
         from ..identify.staged import combine, load_stages, run_stages
         stages = load_stages(a["stages"], model)
-        for st in stages:                                 # data errors before any fitting
-            for path in st.experiments:
-                load_all(path, model)
+        paths = list(dict.fromkeys(path for st in stages for path in st.experiments))
+        loaded = {path: load_all(path, model) for path in paths}   # each file once; data errors before fitting
         with progress_bar(sum(s.max_evals for s in stages)) as prog:
-            p, res_list = run_stages(model, stages, lambda path: load_all(path, model), opts=opts,
+            p, res_list = run_stages(model, stages, loaded.__getitem__, opts=opts,
                                      progress=prog.update, workers=a["workers"],
                                      on_stage=lambda i, s: prog.stage(f"stage {i + 1}/{len(stages)}: {s.name}"))
         for st, r in zip(stages, res_list):
             typer.echo(f"\n== stage: {st.name} ({st.mode}) ==")
             print_fit(r)
-        paths = list(dict.fromkeys(path for st in stages for path in st.experiments))
-        exps = [e for path in paths for e in load_all(path, model)]
+        exps = [e for path in paths for e in loaded[path]]
         names = [n for r in res_list for n in r.names]
         write_outputs(net, model, exps, p, names, combine(res_list, stages), a["out"], a["results"], opts)
         return

@@ -1,4 +1,6 @@
-"""An experiment: the inputs that drive a machine and the measurements to compare with.
+"""An experiment: the inputs that drive a machine and the measurements to compare with —
+plain data: nothing here simulates, and no caller mutates it (derive a changed copy with
+``dataclasses.replace``). Its start state is ``experiments.initial.initial_state``.
 
 Loading (an experiment YAML file, ``file.yaml#name``, or a plain recording) is
 ``experiments.experiment_file.load_experiment`` / ``load_all``; this module holds the data
@@ -31,45 +33,7 @@ class Experiment:
     fit_outputs: list[str] = field(default_factory=list)            # outputs to fit ([] = all measured)
     weights: dict[str, float] = field(default_factory=dict)         # output → weight (cost 'wls')
     settle: float = 0.0          # > 0: pre-roll [s] with inputs frozen at their first value (initial: steady)
-
-    def x0(self, model: Model, p: np.ndarray | None = None) -> np.ndarray:
-        """Initial state: the model's, then states measured directly (first sample), then
-        the experiment's explicit values; with ``settle`` > 0 the machine then runs that long
-        with the inputs frozen at their first value (parameters ``p``) and starts from there."""
-        x0 = self._x0_given(model)
-        if self.settle > 0:
-            from ..solve.simulate import SolverOptions, simulate
-            frozen = InputTable(np.array([0.0]), self.inputs.U[:1].copy())
-            traj = simulate(model, frozen, np.array([0.0, self.settle]), p=p, x0=x0, opts=SolverOptions(rtol=1e-6))
-            x0 = traj.X[-1].copy()
-        return x0
-
-    def _x0_given(self, model: Model) -> np.ndarray:
-        x0 = model.x0.copy()
-        if self.initial_from_data:
-            for out, values in self.measured.items():
-                e = model.equations.output_exprs.get(out)
-                state = _direct_state(model, e)
-                finite = values[np.isfinite(values)] if state is not None else values[:0]
-                if finite.size:
-                    x0[model.state_index(state)] = finite[0]
-        for name, v in self.initial.items():
-            x0[model.state_index(name)] = v
-        return x0
-
-
-def _direct_state(model: Model, e) -> str | None:
-    """The state an output reads directly (through variable aliases), if any."""
-    seen = 0
-    while e is not None and e.op == "sym" and seen < 20:
-        kind, name = e.args
-        if kind == "state":
-            return name
-        if kind != "var":
-            return None
-        e = model.equations.variables.get(name)
-        seen += 1
-    return None
+    # the start state is computed by experiments.initial.initial_state(model, exp, p)
 
 
 def experiment_from_recording(rec: Recording, model: Model, name: str) -> Experiment:
