@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import ClassVar
 
+from .roles import Role
 from .stamps import Stamps
 
 
@@ -138,6 +139,7 @@ class Component:
     parameters: ClassVar[tuple[Param, ...]] = ()
     states: ClassVar[tuple[StateSpec, ...]] = ()
     variables: ClassVar[tuple[VariableSpec, ...]] = ()
+    roles: ClassVar[tuple[Role, ...]] = ()     # what it can play in a machine (:mod:`.roles`)
 
     def equations(self, c: Stamps) -> None:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -155,6 +157,10 @@ class Component:
     @classmethod
     def param(cls, name: str) -> Param | None:
         return next((p for p in cls.parameters if p.name == name), None)
+
+    @classmethod
+    def role(cls, name: str) -> Role | None:
+        return next((r for r in cls.roles if r.name == name), None)
 
     @classmethod
     def state_spec(cls, name: str) -> StateSpec | None:

@@ -46,3 +46,8 @@ def all_types() -> dict[str, type[Component]]:
     load_library()
     return dict(sorted(_TYPES.items()))
 
+
+def offering(role_name: str) -> dict[str, type[Component]]:
+    """Every registered type that offers the role ``role_name`` (see :mod:`.roles`)."""
+    return {t: c for t, c in all_types().items() if c.role(role_name) is not None}
+

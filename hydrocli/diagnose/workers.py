@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import executor
 from ..model.builder import build_model
 from ..netlist.loader import load_netlist_text
 from . import baseline, residuals, stats
@@ -104,6 +103,11 @@ def fit_one(job: dict) -> dict:
         return {"key": job["key"], "error": f"{type(exc).__name__}: {exc}"}
 
 
-def run_all(fn, jobs: list[dict], n_jobs: int, scheduler: str | None = None) -> list[dict]:
-    """In order; over hydrocli.executor (process pool, or Dask with ``scheduler``)."""
-    return executor.run_all(fn, jobs, n_jobs, scheduler)
+def run_all(fn, jobs: list[dict], pool=None) -> list[dict]:
+    """``fn`` over ``jobs`` on the diagnosis's executor (identify's: a process pool, or a Dask
+    client when a scheduler was named), in this process when there is none."""
+    if pool is None or len(jobs) <= 1:
+        return [fn(j) for j in jobs]
+    if hasattr(pool, "gather"):          # dask.distributed.Client
+        return pool.gather(pool.map(fn, jobs, pure=False))
+    return list(pool.map(fn, jobs))
