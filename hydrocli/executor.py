@@ -8,12 +8,9 @@ from the disk cache, ``solve.library``).
 from __future__ import annotations
 
 from contextlib import contextmanager
-from typing import Callable, Iterable, Iterator, TypeVar
+from typing import Iterator
 
 from .errors import IdentifyError, Problem
-
-T = TypeVar("T")
-R = TypeVar("R")
 
 
 @contextmanager
@@ -41,27 +38,6 @@ def executor(jobs: int = 2, scheduler: str | None = None) -> Iterator:
         from concurrent.futures import ProcessPoolExecutor
         with ProcessPoolExecutor(max_workers=max(int(jobs), 1)) as pool:
             yield pool
-
-
-def run_all(fn: Callable[[T], R], items: Iterable[T], jobs: int = 2, scheduler: str | None = None,
-            on_done: Callable[[int, R], None] | None = None) -> list[R]:
-    """``[fn(x) for x in items]`` in order: in this process when there is one job or one
-    item and no scheduler, else over :func:`executor`. ``on_done(i, result)`` after each."""
-    items = list(items)
-    out: list[R] = []
-    if not scheduler and (jobs <= 1 or len(items) <= 1):
-        for i, x in enumerate(items):
-            out.append(fn(x))
-            if on_done:
-                on_done(i, out[-1])
-        return out
-    with executor(jobs, scheduler) as ex:
-        futures = [ex.submit(fn, x) for x in items]
-        for i, f in enumerate(futures):
-            out.append(f.result())
-            if on_done:
-                on_done(i, out[-1])
-    return out
 
 
 def _reachable(address: str) -> None:
