@@ -22,10 +22,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .experiments.experiment import Experiment, load_experiment as _load_experiment
+from .experiments.experiment import Experiment
+from .experiments.experiment_file import load_experiment as _load_experiment
 from .model.model import Model
 from .netlist.model import Netlist
-from .results import RunResult, write_result
+from .results import RunResult
+from .runfiles import write_run
 
 __all__ = ["Machine", "SimulationResult", "Fit", "load_machine", "load_experiment", "diagnose"]
 
@@ -118,8 +120,8 @@ class SimulationResult:
         return fig
 
     def save(self, path: str | Path) -> Path:
-        """Write the HDF5 result (DESIGN.md layout), atomically."""
-        write_result(path, self.run)
+        """Write the run (HDF5 in the DESIGN.md layout, or CSV by suffix), atomically."""
+        write_run(path, self.run)
         return Path(path)
 
 

@@ -21,6 +21,7 @@ import numpy as np
 
 from .model.builder import build_model
 from .netlist.loader import load_netlist, load_netlist_text
+from .solve.library import compiled
 from .solve.simulate import InputTable, SolverOptions, simulate
 
 EHA = Path(__file__).resolve().parent.parent / "machines" / "eha_testbench.yaml"
@@ -135,7 +136,7 @@ def bench_eha(repeat: int = 5, t_end: float = 20.0, baseline_rtol: float = 1e-6,
         echo(f"  scipy {method:5s} (Python rhs, rtol {baseline_rtol:g}): {secs * 1e3:9.1f} ms   "
              f"max error {results[method][1][0]:.2e} bar, {results[method][1][1]:.2e} mm/s")
     inputs = InputTable(t, U)
-    model.compiled()
+    compiled(model)
     best = None
     for rtol in (1e-4, 1e-5, 1e-6, 1e-7):
         opts = SolverOptions(rtol=rtol)
@@ -186,7 +187,7 @@ def bench_scaling(sizes=(1, 10, 50), t_end: float = 5.0, repeat: int = 3, echo=p
     for n in sizes:
         model = build_model(load_netlist_text(n_cylinder_machine(n), f"<bench {n}>"))
         t0 = time.perf_counter()
-        model.compiled()
+        compiled(model)
         build_s = time.perf_counter() - t0
         secs, _ = _median_time(lambda: simulate(model, InputTable(t, U), t, opts=SolverOptions(rtol=1e-5)), repeat)
         out[n] = secs / t_end
@@ -207,7 +208,7 @@ def bench_build(echo=print) -> dict:
             for label in ("cold", "warm"):
                 t0 = time.perf_counter()
                 m = build_model(load_netlist(EHA))
-                m.compiled()
+                compiled(m)
                 times[label] = time.perf_counter() - t0
         finally:
             if old is None:

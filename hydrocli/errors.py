@@ -42,6 +42,10 @@ class Problem:
     location: Location = field(default_factory=Location)
     hint: str | None = None
 
+    def at(self, location: Location) -> "Problem":
+        """The same problem, located elsewhere (e.g. a unit error moved to its YAML value)."""
+        return Problem(self.message, location, self.hint)
+
     def render(self, with_source: bool = True) -> str:
         head = f"{self.location}: " if str(self.location) else ""
         text = f"{head}{self.message}"

@@ -1,12 +1,13 @@
-"""Shared steps of the commands: load a machine (with --set overrides), build it, load
-experiments, and simulate one experiment into a :class:`~hydrocli.results.RunResult`."""
+"""Shared steps of the commands: load a machine (with --set overrides), build it, and
+simulate one experiment into a :class:`~hydrocli.results.RunResult`."""
 from __future__ import annotations
 
 from pathlib import Path
 
 import numpy as np
 
-from .experiments.experiment import Experiment, load_experiment
+from .experiments.experiment import Experiment
+from .experiments.initial import initial_state
 from .model.builder import build_model
 from .model.model import Model
 from .netlist.loader import load_netlist
@@ -23,12 +24,8 @@ def load_machine(path: str | Path, sets: list[str] | None = None) -> tuple[Netli
     return net, build_model(net)
 
 
-def load_experiments(paths, model: Model) -> list[Experiment]:
-    return [load_experiment(p, model) for p in paths]
-
-
 def simulate_experiment(model: Model, exp: Experiment, p: np.ndarray | None = None,
                         opts: SolverOptions | None = None, command: str = "") -> RunResult:
     p = model.p0 if p is None else p
-    traj = simulate(model, exp.inputs, exp.t_out, p=p, x0=exp.x0(model), opts=opts)
+    traj = simulate(model, exp.inputs, exp.t_out, p=p, x0=initial_state(model, exp), opts=opts)
     return run_result(model, exp, traj, p, command)

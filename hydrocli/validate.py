@@ -16,8 +16,7 @@ recorded) are derived from the recording (:func:`derive_measured`).
 """
 from __future__ import annotations
 
-import difflib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +24,8 @@ import numpy as np
 from .errors import DataError, Location, Problem
 from .metrics import all_metrics
 from .results import RunResult
+from .runfiles import load_run
+from .suggest import suggest
 
 
 @dataclass
@@ -134,7 +135,7 @@ def load_thresholds(path: str | Path) -> Thresholds:
 
     for key in doc:
         if key not in ("max_esr", "experiments"):
-            raise DataError(Problem(f"unknown key '{key}' in validation file{_suggest(str(key), ['max_esr', 'experiments'])}",
+            raise DataError(Problem(f"unknown key '{key}' in validation file{suggest(str(key), ['max_esr', 'experiments'])}",
                                     key_loc(doc, key, path, str(key)), "allowed keys: max_esr, experiments"))
     th = Thresholds(table(doc["max_esr"], "max_esr") if "max_esr" in doc else {}, {}, path)
     exps = doc.get("experiments") or {}
@@ -151,13 +152,8 @@ def check_outputs(th: Thresholds, known: list[str]) -> None:
     """Refuse thresholds on outputs the machine does not have (typos must not pass CI)."""
     bad = sorted(th.outputs() - set(known))
     if bad:
-        raise DataError([Problem(f"threshold for unknown output '{b}'{_suggest(b, known)}", Location(th.source),
+        raise DataError([Problem(f"threshold for unknown output '{b}'{suggest(b, known)}", Location(th.source),
                                  f"the machine's outputs are: {', '.join(known)}") for b in bad])
-
-
-def _suggest(name: str, choices) -> str:
-    close = difflib.get_close_matches(name, list(choices), n=3, cutoff=0.6)
-    return " (did you mean " + " or ".join(f"'{c}'" for c in close) + "?)" if close else ""
 
 
 # -- scoring ----------------------------------------------------------------------------
@@ -232,7 +228,7 @@ def validate_machine(machine, experiments, th: Thresholds, sets=None, opts=None,
     verdict = Verdict(model.name, notes=[f"warning: {w}" for w in model.warnings])
     for exp in (e for path in experiments for e in load_all(path, model)):
         derived = derive_measured(model, exp.measured)
-        exp.measured.update(derived)
+        exp = replace(exp, measured={**exp.measured, **derived})       # a copy: experiments are never mutated
         if derived:
             verdict.notes.append(f"{exp.name}: {', '.join(derived)} derived from the recorded outputs")
         res = simulate_experiment(model, exp, opts=opts)
@@ -245,10 +241,9 @@ def validate_machine(machine, experiments, th: Thresholds, sets=None, opts=None,
 
 def validate_results(paths, th: Thresholds) -> Verdict:
     """Score result files that already hold /outputs and /measured (no simulation)."""
-    from .report.data import load_result
     verdict = Verdict("")
     for path in paths:
-        res = load_result(path)
+        res = load_run(path)
         if not res.measured:
             raise DataError(Problem(f"{path} has no /measured group: nothing to compare with", Location(str(path)),
                                     "simulate with an experiment that records the outputs, or validate the machine "

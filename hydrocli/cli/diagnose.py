@@ -41,7 +41,7 @@ def _run(machine, train, validate, out, max_effects, jobs, top, no_pdf, schedule
     write_json(diag, out / "diagnosis.json")
     write_augmented(diag, out / "augmented.yaml")
     if not no_pdf:
-        from ..diagnose.report_pages import write_report
+        from ..report.diagnosis import write_report
         write_report(diag, out / "report.pdf")
     typer.echo(console_summary(diag))
     typer.echo(f"→ {out}/diagnosis.json, {out}/augmented.yaml" + ("" if no_pdf else f", {out}/report.pdf")

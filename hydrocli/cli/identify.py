@@ -73,22 +73,20 @@ def _run(a: dict) -> None:
     if a["batch"]:
         return _batch(a, model, free, bounds, outputs, opts)
     from ..experiments.experiment_file import load_all
-    from ..identify.output import print_fit, progress_bar, write_outputs
+    from .identify_output import print_fit, progress_bar, write_outputs
     if a["stages"]:
         from ..identify.staged import combine, load_stages, run_stages
         stages = load_stages(a["stages"], model)
-        for st in stages:                                 # data errors before any fitting
-            for path in st.experiments:
-                load_all(path, model)
+        paths = list(dict.fromkeys(path for st in stages for path in st.experiments))
+        loaded = {path: load_all(path, model) for path in paths}   # each file once; data errors before fitting
         with progress_bar(sum(s.max_evals for s in stages)) as prog:
-            p, res_list = run_stages(model, stages, lambda path: load_all(path, model), opts=opts,
+            p, res_list = run_stages(model, stages, loaded.__getitem__, opts=opts,
                                      progress=prog.update, workers=a["workers"],
                                      on_stage=lambda i, s: prog.stage(f"stage {i + 1}/{len(stages)}: {s.name}"))
         for st, r in zip(stages, res_list):
             typer.echo(f"\n== stage: {st.name} ({st.mode}) ==")
             print_fit(r)
-        paths = list(dict.fromkeys(path for st in stages for path in st.experiments))
-        exps = [e for path in paths for e in load_all(path, model)]
+        exps = [e for path in paths for e in loaded[path]]
         names = [n for r in res_list for n in r.names]
         write_outputs(net, model, exps, p, names, combine(res_list, stages), a["out"], a["results"], opts)
         return
@@ -149,7 +147,7 @@ def _batch(a, model, free, bounds, outputs, opts) -> None:
                     on_done=lambda i, r: typer.echo(f"  [{i + 1}/{len(exps)}] {r['experiment']}: "
                                                    + (f"cost {r['cost']:.4g} in {r['seconds']:.1f} s" if "error" not in r
                                                       else "FAILED: " + r["error"].splitlines()[0])))
-    from ..identify.output import print_table
+    from .identify_output import print_table
     print_table(res.table_rows())
     res.write_csv(a["out"])
     typer.echo(f"table → {a['out']}")

@@ -59,7 +59,7 @@ def _run(machine, experiments, results, thresholds, cli_th, junit, markdown, out
     from ..errors import DataError, Location, Problem
     from ..netlist.yamldoc import write_atomic
     from ..report import ci
-    from ..results import write_result
+    from ..runfiles import write_run
     from ..solve.simulate import SolverOptions
     from ..validate import Thresholds, Verdict, load_thresholds, validate_machine, validate_results
 
@@ -70,7 +70,7 @@ def _run(machine, experiments, results, thresholds, cli_th, junit, markdown, out
         if out_dir is not None:
             safe = re.sub(r"[^\w.-]+", "_", res.experiment or "result")
             path = _unique(Path(out_dir) / f"{safe}.h5", written)
-            write_result(path, res)
+            write_run(path, res)
             written.append(path)
 
     verdict = Verdict("")

@@ -3,7 +3,8 @@
 A component type declares its ports (with a physical domain), parameters (SI unit,
 default, validity limits, identification bounds, description, source equation), states
 and exposed variables as class-level tuples; its physics is one short ``equations``
-method written against :class:`hydrocli.model.context.Context`. The builder never needs
+method written against :class:`hydrocli.components.stamps.Stamps` (implemented by
+:class:`hydrocli.model.context.Context`). The builder never needs
 to know a component's internals, and ``hydro components``, the JSON Schema and the docs
 tables come from these same specs.
 """
@@ -11,12 +12,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import Enum
-from typing import TYPE_CHECKING, ClassVar
+from typing import ClassVar
 
 from .roles import Role
-
-if TYPE_CHECKING:  # pragma: no cover
-    from ..model.context import Context
+from .stamps import Stamps
 
 
 class Domain(str, Enum):
@@ -142,7 +141,7 @@ class Component:
     variables: ClassVar[tuple[VariableSpec, ...]] = ()
     roles: ClassVar[tuple[Role, ...]] = ()     # what it can play in a machine (:mod:`.roles`)
 
-    def equations(self, c: "Context") -> None:  # pragma: no cover - abstract
+    def equations(self, c: Stamps) -> None:  # pragma: no cover - abstract
         raise NotImplementedError
 
     def check(self, values: dict[str, float]) -> list[str]:

@@ -5,7 +5,6 @@ Registering a type is one decorator; modules of the library register themselves 
 """
 from __future__ import annotations
 
-import difflib
 import importlib
 import pkgutil
 
@@ -52,10 +51,3 @@ def offering(role_name: str) -> dict[str, type[Component]]:
     """Every registered type that offers the role ``role_name`` (see :mod:`.roles`)."""
     return {t: c for t, c in all_types().items() if c.role(role_name) is not None}
 
-
-def suggest(name: str, choices) -> str:
-    """' (did you mean …?)' or an empty string."""
-    close = difflib.get_close_matches(name, list(choices), n=3, cutoff=0.6)
-    if not close:
-        return ""
-    return " (did you mean " + " or ".join(f"'{c}'" for c in close) + "?)"

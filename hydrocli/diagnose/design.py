@@ -120,10 +120,11 @@ def experiment_text(d: Design, machine_name: str) -> str:
 
 
 def _simulate(model, p, exp) -> np.ndarray | None:
+    from ..experiments.initial import initial_state
     from ..solve.simulate import simulate
     from .residuals import OPTS
     try:
-        return simulate(model, exp.inputs, exp.t_out, p=p, x0=exp.x0(model), opts=OPTS).Y
+        return simulate(model, exp.inputs, exp.t_out, p=p, x0=initial_state(model, exp), opts=OPTS).Y
     except HydroError:
         return None
 

@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import DataError, Problem
 from ..experiments.experiment import Experiment
 from ..experiments.experiment_file import load_all
-from ..identify.batch import executor
+from ..executor import executor
 from ..identify.fit import FitResult
 from ..model.builder import build_model
 from ..model.model import Model

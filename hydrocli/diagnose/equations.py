@@ -15,6 +15,7 @@ import numpy as np
 from scipy import signal
 
 from ..model.model import Model
+from ..experiments.initial import direct_state, initial_state
 from ..solve.simulate import simulate
 from .residuals import OPTS
 
@@ -24,10 +25,9 @@ FC_HZ = 25.0
 def measured_states(model: Model, exp) -> dict[str, str]:
     """{state: output} for outputs that read a state directly (through variable aliases),
     and for pressure-sensor states their sensed node."""
-    from ..experiments.experiment import _direct_state
     out = {}
     for o in exp.measured:
-        s = _direct_state(model, model.equations.output_exprs.get(o))
+        s = direct_state(model, model.equations.output_exprs.get(o))
         if s is None:
             continue
         if s.endswith(".y") and f"{s[:-2]}.tau" in model.param_names:   # lagging sensor → sensed node
@@ -64,7 +64,7 @@ def equation_errors(model: Model, exp, p: np.ndarray) -> dict[str, dict]:
     """{state: {"output", "balance", "relative_rms", "error"}} along the measured trajectory."""
     t = exp.t_out
     fs = 1.0 / float(np.median(np.diff(t)))
-    traj = simulate(model, exp.inputs, t, p=p, x0=exp.x0(model), opts=OPTS)
+    traj = simulate(model, exp.inputs, t, p=p, x0=initial_state(model, exp), opts=OPTS)
     X = traj.X.copy()
     ms = measured_states(model, exp)
     for s, o in ms.items():

@@ -8,6 +8,7 @@ import numpy as np
 
 from ..errors import HydroError
 from ..experiments.experiment import Experiment
+from ..experiments.initial import initial_state
 from ..identify.cost import Objective, make_targets
 from ..metrics import esr
 from ..model.model import Model
@@ -37,7 +38,7 @@ def simulate_outputs(model: Model, exps: list[Experiment], p: np.ndarray) -> lis
     out = []
     for e in exps:
         try:
-            out.append(simulate(model, e.inputs, e.t_out, p=p, x0=e.x0(model), opts=OPTS).Y)
+            out.append(simulate(model, e.inputs, e.t_out, p=p, x0=initial_state(model, e), opts=OPTS).Y)
         except HydroError as exc:
             out.append(held_after_failure(getattr(exc, "partial", None), e.t_out.size, len(model.output_names)))
     return out

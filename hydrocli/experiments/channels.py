@@ -36,7 +36,7 @@ class ChannelsMixin:
             if col in rec.other_lengths:
                 self.fail(f"column '{col}' has {rec.other_lengths[col]} samples but the time column has {rec.t.size}",
                           loc, "every signal must have one sample per time sample")
-            from ..components.registry import suggest
+            from ..suggest import suggest
             self.fail(f"unknown column '{col}' in {rec.file}{suggest(col, list(rec.columns))}", loc,
                       f"columns: {', '.join(rec.columns)}")
         y = rec.columns[col]

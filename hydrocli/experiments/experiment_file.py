@@ -45,8 +45,8 @@ from ..model.model import Model
 from ..netlist import yamldoc as Y
 from ..solve.simulate import InputTable
 from ..units import si_factor, to_si
-from .experiment import Experiment
-from .recording import Recording, read_recording
+from .experiment import Experiment, experiment_from_recording
+from .recording import Recording, read_csv, read_recording
 from .channels import ChannelsMixin
 from .steps import StepsMixin
 
@@ -101,7 +101,7 @@ def load_experiment_file(path: str | Path, model: Model, name: str | None = None
 
 
 def _check_keys(m, file: str) -> None:
-    from ..components.registry import suggest
+    from ..suggest import suggest
     bad = [k for k in m if k not in KEYS]
     if bad:
         k = bad[0]
@@ -157,7 +157,7 @@ class _Builder(ChannelsMixin, StepsMixin):
         outs = {}
         for n in outputs_spec:
             if n not in self.model.output_names:
-                from ..components.registry import suggest
+                from ..suggest import suggest
                 self.fail(f"'{n}' is not an output of machine {self.model.name}{suggest(str(n), self.model.output_names)}",
                           self.loc("outputs" if "outputs" in s else "measured", n),
                           f"outputs: {', '.join(self.model.output_names)}")
@@ -215,7 +215,7 @@ class _Builder(ChannelsMixin, StepsMixin):
                     exp.initial_from_data = bool(v)
                     continue
                 if k not in self.model.state_names:
-                    from ..components.registry import suggest
+                    from ..suggest import suggest
                     self.fail(f"initial: '{k}' is not a state{suggest(str(k), self.model.state_names)}",
                               self.loc("initial", k), f"states: {', '.join(self.model.state_names)}")
                 unit = self.model.states[self.model.state_index(k)].unit
@@ -242,11 +242,28 @@ class _Builder(ChannelsMixin, StepsMixin):
             exp.thresholds[str(k)] = float(v)
 
 
+def load_experiment(path: str | Path, model: Model) -> Experiment:
+    """One experiment; ``file.yaml#name`` picks one of several in an experiment file."""
+    text = str(path)
+    if "#" in text and text.split("#", 1)[0].lower().endswith((".yaml", ".yml")):
+        file, name = text.split("#", 1)
+        return load_experiment_file(file, model, name=name)
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".csv":
+        return experiment_from_recording(read_csv(path), model, name=path.stem)
+    if suffix in (".yaml", ".yml"):
+        return load_experiment_file(path, model)
+    if suffix in (".h5", ".hdf5", ".mat"):
+        return experiment_from_recording(recording_from_file(path), model, name=path.stem)
+    raise DataError(Problem(f"unknown experiment format '{suffix}' for {path}", Location(str(path)),
+                            "give an experiment .yaml, or a recording .csv/.h5/.mat"))
+
+
 def load_all(path: str | Path, model: Model) -> list[Experiment]:
     """Every experiment a path names: all of an experiment file's, or the one of a recording
     (``file.yaml#name`` picks one)."""
     p = str(path)
     if p.lower().endswith((".yaml", ".yml")):
         return load_experiment_files(p, model)
-    from .experiment import load_experiment
     return [load_experiment(p, model)]

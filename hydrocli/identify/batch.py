@@ -3,24 +3,25 @@
 Each job ships the built :class:`Model` (it pickles; workers reload the compiled library
 from the disk cache) and one :class:`Experiment` to :func:`fit_job`, which returns a small
 dict. The executor is anything with ``submit(fn, *args) -> future`` and ``future.result()``:
-``concurrent.futures.ProcessPoolExecutor`` by default, or a ``dask.distributed.Client``
-connected to ``--scheduler tcp://HOST:PORT`` — the same code path. The table has one row per
+``hydrocli.executor``: a process pool by default, or a Dask distributed client connected to
+``--scheduler tcp://HOST:PORT`` — the same code path. The table has one row per
 experiment and rows ``mean``, ``std`` (sample, ddof = 1), ``min``, ``max`` per parameter.
 """
 from __future__ import annotations
 
 import csv
 import io
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import HydroError, IdentifyError, Problem
+from ..executor import executor
 from ..experiments.experiment import Experiment
 from ..model.model import Model
 from ..solve.simulate import SolverOptions
+from ..solve.library import compiled
 
 
 def fit_job(model: Model, exp: Experiment, free: list[str] | None, options: dict) -> dict:
@@ -33,41 +34,6 @@ def fit_job(model: Model, exp: Experiment, free: list[str] | None, options: dict
     return {"experiment": exp.name, "names": list(res.names), "estimates": res.estimates.tolist(),
             "stderr": res.stderr.tolist(), "cost": res.cost, "n_evals": res.n_evals, "seconds": res.seconds,
             "warnings": list(res.warnings), "message": res.message}
-
-
-@contextmanager
-def executor(jobs: int = 2, scheduler: str | None = None):
-    """A process pool, or a Dask distributed client when ``scheduler`` is given."""
-    if scheduler:
-        try:
-            from distributed import Client
-        except ImportError:
-            raise IdentifyError(Problem("--scheduler needs Dask distributed, which is not installed",
-                                        hint="pip install 'hydrocli[dask]'")) from None
-        try:
-            _reachable(scheduler)
-            client = Client(scheduler, timeout=10, set_as_default=False)
-        except (OSError, TimeoutError) as exc:
-            raise IdentifyError(Problem(f"cannot connect to the Dask scheduler {scheduler}: {exc}",
-                                        hint="start one with 'dask scheduler' and 'dask worker ADDRESS', "
-                                             "or drop --scheduler for a local process pool")) from None
-        try:
-            yield client
-        finally:
-            client.close()
-    else:
-        from concurrent.futures import ProcessPoolExecutor
-        with ProcessPoolExecutor(max_workers=max(int(jobs), 1)) as pool:
-            yield pool
-
-
-def _reachable(address: str) -> None:
-    """Fail fast (connection refused) before Dask's own retrying connect."""
-    import socket
-    from urllib.parse import urlparse
-    u = urlparse(address if "://" in address else f"tcp://{address}")
-    if u.scheme in ("tcp", "tls") and u.hostname and u.port:
-        socket.create_connection((u.hostname, u.port), timeout=5).close()
 
 
 @dataclass
@@ -121,7 +87,7 @@ def run_batch(model: Model, experiments: list[Experiment], free: list[str] | Non
     names = FreeParameters.from_model(model, free, (options or {}).get("bounds")).names
     opts = dict(options or {})
     opts.setdefault("opts", SolverOptions(rtol=1e-6))
-    model.compiled()                      # compile once in the parent; workers load the cached library
+    compiled(model)                      # compile once in the parent; workers load the cached library
     rows = []
     with executor(jobs, scheduler) as ex:
         futures = [ex.submit(fit_job, model, e, free, opts) for e in experiments]

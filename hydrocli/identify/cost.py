@@ -17,6 +17,7 @@ import numpy as np
 
 from ..errors import HydroError, IdentifyError, Problem
 from ..experiments.experiment import Experiment
+from ..experiments.initial import initial_state
 from ..model.model import Model
 from ..solve.simulate import SolverOptions, simulate
 
@@ -90,15 +91,11 @@ class Objective:
         self.n_failed = 0
         self.size = sum(t.size for t in targets)
         self._lock = threading.Lock()
-        self._x0 = [None if t.exp.settle > 0 else t.exp.x0(model) for t in targets]
+        self._x0 = [None if t.exp.settle > 0 else initial_state(model, t.exp) for t in targets]
 
     def x0(self, i: int, p: np.ndarray) -> np.ndarray:
         """Initial state of target i (settled with parameters p when the experiment asks)."""
-        return self._x0[i] if self._x0[i] is not None else self.targets[i].exp.x0(self.model, p)
-
-    def simulate_all(self, p: np.ndarray) -> list[np.ndarray]:
-        return [simulate(self.model, t.exp.inputs, t.exp.t_out, p=p, x0=self.x0(i, p), opts=self.opts).Y
-                for i, t in enumerate(self.targets)]
+        return self._x0[i] if self._x0[i] is not None else initial_state(self.model, self.targets[i].exp, p)
 
     def residuals(self, p: np.ndarray) -> np.ndarray:
         with self._lock:

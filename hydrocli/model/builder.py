@@ -1,7 +1,9 @@
 """Builder: Netlist → Model (states, parameter vector, generated equations).
 
 1. every component stamps its equations through a :class:`Context`;
-2. the linear graph turns nodes into states or imposed variables (graph.topology);
+2. the stamped elements become the branches of the linear graph (graph.linear); its
+   normal tree (graph.topology) says which node across variables are imposed and which
+   are states, and the node equations are written from it (model.nodes);
 3. outputs are parsed; variables are ordered (an algebraic loop is refused);
 4. the flat equations become C and NumPy source (codegen). Parameters stay symbols, so
    identification changes the parameter array without rebuilding.
@@ -13,55 +15,29 @@ import hashlib
 import numpy as np
 
 from ..components import registry
-from ..components.base import Domain
+from ..suggest import suggest
 from ..errors import HydroError, NetlistError, ProblemCollector, TopologyError
-from ..graph.topology import check_domains, node_equations
+from ..graph.linear import LinearGraph
+from ..graph.topology import check_domains, input_branches, normal_tree
 from ..netlist.model import Netlist
 from ..netlist.normal import normalised_text
 from ..units import dimensionality, to_si
 from . import expr as E
-from .codegen import Equations, order_variables
+from .equations import Equations, order_variables
 from .context import Assembly, Context, NodeInfo
+from .nodes import node_equations, stamped_branches
 from .model import Model, ParamInfo, StateInfo
 from .parse import ExprSyntaxError, parse_expression
 
 
 def build_model(net: Netlist) -> Model:
     errs = ProblemCollector()
-    asm = Assembly()
     comp_locs = {c.name: c.loc for c in net.components.values()}
-    port_domains: dict[tuple[str, str], Domain] = {}
-    for decl in net.components.values():
-        cls = registry.get(decl.type)
-        for port, node in decl.ports.items():
-            dom = cls.port(port).domain
-            port_domains[(decl.name, port)] = dom
-            info = asm.nodes.get(node)
-            if info is None:
-                info = asm.nodes[node] = NodeInfo(node, dom)
-            info.ports.append((decl.name, port))
-    for p in check_domains(asm, port_domains, comp_locs):
-        errs.problems.append(p)
+    asm, graph = stamp(net)
+    tree = normal_tree(graph, set(net.inputs), set(net.components), comp_locs)
+    errs.problems.extend(node_equations(asm, graph, tree, comp_locs))
     errs.raise_if_any(TopologyError)
-
-    for decl in net.components.values():
-        cls = registry.get(decl.type)
-        structural = {p.name: decl.params[p.name].value for p in cls.parameters if p.structural}
-        values = {k: v.value for k, v in decl.params.items()}
-        free = {k for k, v in decl.params.items() if v.free}
-        ctx = Context(asm, decl.name, cls, decl.ports, values, structural, free)
-        try:
-            cls().equations(ctx)
-        except HydroError as exc:
-            errs.extend(exc)
-        except (KeyError, ValueError) as exc:
-            errs.add(f"component '{decl.name}' ({decl.type}): {exc}", decl.loc)
-    errs.raise_if_any(TopologyError)
-
-    problems, unused = node_equations(asm, set(net.inputs), set(net.components), comp_locs)
-    errs.problems.extend(problems)
-    errs.raise_if_any(TopologyError)
-    for name in unused:
+    for name in tree.unused_inputs:
         asm.warnings.append(f"machine input '{name}' drives no signal port")
 
     states = list(asm.states)
@@ -104,11 +80,54 @@ def build_model(net: Netlist) -> Model:
                  warnings=list(asm.warnings), netlist_text=normal, file=net.file)
 
 
+def stamp(net: Netlist) -> tuple[Assembly, LinearGraph]:
+    """Check the ports' domains, let every component stamp its equations, and return what
+    they stamped with the machine's linear graph (its branches are the stamped elements)."""
+    errs = ProblemCollector()
+    comp_locs = {c.name: c.loc for c in net.components.values()}
+    asm = Assembly()
+    graph = graph_of(net)
+    port_domains = {(c, p): dom for c, p, _, dom in terminals(net)}
+    for p in check_domains(graph, port_domains, comp_locs):
+        errs.problems.append(p)
+    errs.raise_if_any(TopologyError)
+    for node in graph.nodes.values():
+        asm.nodes[node.name] = NodeInfo(node.name, node.domain, list(node.terminals))
+
+    for decl in net.components.values():
+        cls = registry.get(decl.type)
+        structural = {p.name: decl.params[p.name].value for p in cls.parameters if p.structural}
+        values = {k: v.value for k, v in decl.params.items()}
+        free = {k for k, v in decl.params.items() if v.free}
+        ctx = Context(asm, decl.name, cls, decl.ports, values, structural, free)
+        try:
+            cls().equations(ctx)
+        except HydroError as exc:
+            errs.extend(exc)
+        except (KeyError, ValueError) as exc:
+            errs.add(f"component '{decl.name}' ({decl.type}): {exc}", decl.loc)
+    errs.raise_if_any(TopologyError)
+    return asm, graph.with_branches([*input_branches(graph, set(net.inputs)), *stamped_branches(asm)])
+
+
+def terminals(net: Netlist):
+    """(component, port, node, domain) of every connected port, in netlist order."""
+    for decl in net.components.values():
+        cls = registry.get(decl.type)
+        for port, node in decl.ports.items():
+            yield decl.name, port, node, cls.port(port).domain
+
+
+def graph_of(net: Netlist) -> LinearGraph:
+    """The machine's linear graph before stamping: nodes and their terminals."""
+    return LinearGraph.from_terminals(terminals(net))
+
+
 def _apply_initial(net: Netlist, infos, x0, errs: ProblemCollector) -> None:
     idx = {si.name: i for i, si in enumerate(infos)}
     for name, pv in net.initial.items():
         if name not in idx:
-            errs.add(f"initial value for unknown state '{name}'{registry.suggest(name, idx)}", pv.loc,
+            errs.add(f"initial value for unknown state '{name}'{suggest(name, idx)}", pv.loc,
                      "'hydro check MACHINE' lists the states")
             continue
         try:

@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..components.base import Component, Domain
+from ..graph.linear import REFERENCE_NODES
 from . import expr as E
 
 
@@ -27,9 +28,6 @@ class NodeInfo:
     @property
     def is_reference(self) -> bool:
         return self.name in REFERENCE_NODES
-
-
-REFERENCE_NODES = ("ground",)
 
 
 def across_name(node: str, domain: Domain) -> str:

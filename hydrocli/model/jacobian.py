@@ -11,7 +11,7 @@ shared by many cylinders).
 from __future__ import annotations
 
 from . import expr as E
-from .codegen import Equations, StateDeps, order_variables
+from .equations import Equations, StateDeps, order_variables
 
 
 def _dsym(var: str, j: int) -> E.Expr:

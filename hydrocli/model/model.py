@@ -11,7 +11,8 @@ import numpy as np
 
 from ..units import si_unit
 from . import expr as E
-from .codegen import Equations, generate_c, generate_numpy
+from .codegen import generate_c, generate_numpy
+from .equations import Equations
 
 
 @dataclass
@@ -82,7 +83,7 @@ class Model:
         try:
             return self.equations.params.index(name)
         except ValueError:
-            from ..components.registry import suggest
+            from ..suggest import suggest
             from ..errors import NetlistError
             raise NetlistError(f"unknown parameter '{name}'{suggest(name, self.equations.params)}",
                                hint="'hydro check MACHINE' lists the parameters") from None
@@ -120,15 +121,6 @@ class Model:
         if self._c_source is None:
             self._c_source = generate_c(self.equations, self.name)
         return self._c_source
-
-    def compiled(self):
-        """The compiled library (built on first use, cached on disk)."""
-        if self._compiled is None:
-            from ..solve.compiled import CompiledModel, build_library
-            so = build_library(self.c_source)
-            eq = self.equations
-            self._compiled = CompiledModel(so, len(eq.states), len(eq.params), len(eq.inputs), len(eq.outputs))
-        return self._compiled
 
     def numpy_evaluate(self):
         """``evaluate(t, x, p, u) -> (dx, y, vars, status)`` on floats or arrays."""

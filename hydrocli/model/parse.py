@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import ast
 
-from ..components.registry import suggest
+from ..suggest import suggest
 from . import expr as E
 
 FUNCS = {"abs": E.fabs, "sqrt": E.sqrt, "exp": E.exp, "log": E.log, "tanh": E.tanh, "sin": E.sin,

@@ -8,12 +8,14 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..components import registry
-from ..errors import HydroError, Location, NetlistError, Problem
+from ..suggest import suggest
+from ..errors import HydroError, Location, NetlistError
 from ..units import dimensionality
 from . import yamldoc as Y
 from .model import ComponentDecl, Netlist, ParamValue
 from .overrides import apply_overrides  # noqa: F401  (re-exported for the CLI's --set)
 from .params import Errors, param_value
+from .sections import entries
 from .sections import load_initial as _load_initial
 from .sections import load_inputs as _load_inputs
 from .sections import load_outputs as _load_outputs
@@ -116,30 +118,19 @@ def _merge_into(dst: dict, src: dict) -> None:
             dst[k] = v
 
 
-def _entries(section):
-    """Iterate (key, value, parent_map, file) over a merged mapping section."""
-    if not isinstance(section, dict):
-        return []
-    return [(k, v, parent, f) for k, (v, parent, f) in section.items()]
-
-
 def _unit_defaults(section, errs: Errors) -> dict[str, str]:
     """Map dimensionality → default unit from the file-level ``units:`` mapping."""
     out: dict[str, str] = {}
-    for key, unit, parent, f in _entries(section):
+    for key, unit, parent, f in entries(section):
         if key not in UNIT_KEYS:
-            errs.add(f"unknown unit category '{key}'{registry.suggest(str(key), UNIT_KEYS)}",
+            errs.add(f"unknown unit category '{key}'{suggest(str(key), UNIT_KEYS)}",
                      Y.key_loc(parent, key, f, f"units.{key}"), f"categories: {', '.join(UNIT_KEYS)}")
             continue
         try:
             out[dimensionality(str(unit))] = str(unit)
         except HydroError as exc:
-            errs.extend(type(exc)([_at(p, Y.value_loc(parent, key, f, f"units.{key}")) for p in exc.problems]))
+            errs.extend(type(exc)([p.at(Y.value_loc(parent, key, f, f"units.{key}")) for p in exc.problems]))
     return out
-
-
-def _at(problem, loc):
-    return Problem(problem.message, loc, problem.hint)
 
 
 class _MapWhere:
@@ -157,9 +148,9 @@ class _MapWhere:
 
 def _load_fluid(section, defaults, errs) -> dict[str, ParamValue]:
     out = {}
-    for key, val, parent, f in _entries(section):
+    for key, val, parent, f in entries(section):
         if key not in FLUID_PROPS:
-            errs.add(f"unknown fluid property '{key}'{registry.suggest(str(key), FLUID_PROPS)}",
+            errs.add(f"unknown fluid property '{key}'{suggest(str(key), FLUID_PROPS)}",
                      Y.key_loc(parent, key, f, f"fluid.{key}"), f"fluid properties: {', '.join(FLUID_PROPS)}")
             continue
         pv = param_value(val, FLUID_PROPS[key], _MapWhere(parent, f), key, f"fluid.{key}", defaults, errs)
@@ -174,15 +165,15 @@ def _load_component(name: str, src: CompSource, defaults, fluid, errs) -> Compon
         errs.add(f"component '{name}' must be a mapping with a 'type:'", loc, "e.g. 'tank: {type: tank, ports: {T: n}}'")
         return None
     if "type" not in cmap:
-        near = next((k for k in cmap if registry.suggest(str(k), ["type", "template"])), None)
-        meant = "template" if near and registry.suggest(str(near), ["template"]) else "type"
+        near = next((k for k in cmap if suggest(str(k), ["type", "template"])), None)
+        meant = "template" if near and suggest(str(near), ["template"]) else "type"
         errs.add(f"component '{name}' has no 'type:'" + (f" (is '{near}' a misspelt '{meant}'?)" if near else ""),
                  src.key_loc(near) if near else loc, "add e.g. 'type: orifice'; 'hydro components' lists the types")
         return None
     tname = cmap.get("type")
     cls = registry.get(str(tname))
     if cls is None:
-        errs.add(f"unknown component type '{tname}'{registry.suggest(str(tname), registry.all_types())}",
+        errs.add(f"unknown component type '{tname}'{suggest(str(tname), registry.all_types())}",
                  src.value_loc("type"), "'hydro components' lists the types")
         return None
     ports = _load_ports(name, cls, src, errs)
@@ -192,7 +183,7 @@ def _load_component(name: str, src: CompSource, defaults, fluid, errs) -> Compon
         if key in COMPONENT_KEYS:
             continue
         if key not in known:
-            errs.add(f"{cls.type} '{name}' has no parameter '{key}'{registry.suggest(str(key), known + ['type', 'ports'])}",
+            errs.add(f"{cls.type} '{name}' has no parameter '{key}'{suggest(str(key), known + ['type', 'ports'])}",
                      src.key_loc(key), f"parameters of {cls.type}: {', '.join(known) or 'none'} "
                      f"('hydro components {cls.type}' describes them)")
             continue
@@ -223,7 +214,7 @@ def _load_ports(name, cls, src: CompSource, errs) -> dict[str, str]:
     for port, node in (pmap or {}).items():
         ploc = Y.key_loc(pmap, port, src.file, f"{src.ypath}.ports.{port}")
         if cls.port(str(port)) is None:
-            errs.add(f"{cls.type} has no port '{port}'{registry.suggest(str(port), names)}", ploc,
+            errs.add(f"{cls.type} has no port '{port}'{suggest(str(port), names)}", ploc,
                      f"ports of {cls.type}: {', '.join(names)}")
         elif not isinstance(node, str) or not node.strip():
             errs.add(f"port '{port}' of '{name}' must name a node", ploc, f"e.g. {port}: n_{name}_{port}")
@@ -258,6 +249,6 @@ def _defaults(name, cls, params, fluid, loc, errs) -> bool:
 def _check_keys(m, allowed, file, errs, what="key", ypath="") -> None:
     for k in m:
         if k not in allowed:
-            errs.add(f"unknown {what} '{k}'{registry.suggest(str(k), allowed)}",
+            errs.add(f"unknown {what} '{k}'{suggest(str(k), allowed)}",
                      Y.key_loc(m, k, file, f"{ypath}{k}"), f"allowed: {', '.join(allowed)}")
 

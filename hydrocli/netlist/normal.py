@@ -2,7 +2,6 @@
 identifies a machine in result files regardless of comments, units or layout."""
 from __future__ import annotations
 
-import hashlib
 import io
 
 from ruamel.yaml import YAML
@@ -33,7 +32,3 @@ def _plain(v):
     if isinstance(v, list):
         return [float(x) for x in v]
     return float(v) if isinstance(v, (int, float)) else str(v)
-
-
-def netlist_sha256(net: Netlist) -> str:
-    return hashlib.sha256(normalised_text(net).encode()).hexdigest()

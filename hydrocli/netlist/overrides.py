@@ -5,6 +5,7 @@ import copy
 import dataclasses
 
 from ..components import registry
+from ..suggest import suggest
 from ..errors import HydroError, Location, NetlistError, Problem
 from .model import Netlist
 from .params import Errors, convert
@@ -45,13 +46,13 @@ def _apply_one(net: Netlist, item: str) -> None:
     comp, _, pname = name.rpartition(".")
     decl = net.components.get(comp)
     if decl is None:
-        raise NetlistError(Problem(f"no component '{comp}'{registry.suggest(comp, net.components)}", loc,
+        raise NetlistError(Problem(f"no component '{comp}'{suggest(comp, net.components)}", loc,
                                    "'hydro check MACHINE' lists the components and parameters"))
     spec = registry.get(decl.type).param(pname)
     if spec is None:
         known = [p.name for p in registry.get(decl.type).parameters]
         raise NetlistError(Problem(f"{decl.type} '{comp}' has no parameter '{pname}'"
-                                   f"{registry.suggest(pname, known)}", loc, f"parameters: {', '.join(known)}"))
+                                   f"{suggest(pname, known)}", loc, f"parameters: {', '.join(known)}"))
     if spec.vector:
         values = [convert(v.strip(), spec.unit, None, net.unit_defaults, loc, name) for v in raw.strip("[]").split(",")]
         value = values

@@ -2,7 +2,7 @@
 ``{value, free, bounds, unit, log, description}`` mapping; converted to SI once, here."""
 from __future__ import annotations
 
-from ..components.registry import suggest
+from ..suggest import suggest
 from ..errors import HydroError, Location, Problem, ProblemCollector, UnitError
 from ..units import dimensionality, same_dimension, to_si
 from . import yamldoc as Y
@@ -56,7 +56,7 @@ def param_value(val, si_unit: str, where, key, ypath: str, defaults: dict, errs:
                                           hint=f"give a unit of the same dimension as {si_unit}"))
                     return None
             except HydroError as exc:
-                errs.extend(UnitError([_relocate(p, Y.value_loc(val, "unit", file, f"{ypath}.unit"))
+                errs.extend(UnitError([p.at(Y.value_loc(val, "unit", file, f"{ypath}.unit"))
                                        for p in exc.problems]))
                 return None
             unit = str(unit)
@@ -113,10 +113,6 @@ def _bounds(val, key, si_unit, unit, defaults, file, ypath, errs):
                  "swap the two bounds" if lo > hi else "give a non-empty interval")
         return None
     return (lo, hi)
-
-
-def _relocate(problem, loc: Location):
-    return Problem(problem.message, loc, problem.hint)
 
 
 def unit_of(text: str) -> str | None:

@@ -1,7 +1,7 @@
 """The ``inputs:``, ``outputs:`` and ``initial:`` sections of a machine file."""
 from __future__ import annotations
 
-from ..components import registry
+from ..suggest import suggest
 from ..errors import HydroError
 from ..units import dimensionality
 from . import yamldoc as Y
@@ -12,8 +12,9 @@ INPUT_KEYS = ("unit", "hold", "description")
 OUTPUT_KEYS = ("expr", "unit", "description")
 
 
-def _entries(section):
-    """(key, value, parent_map, file) over a merged mapping section."""
+def entries(section):
+    """(key, value, parent_map, file) over a merged mapping section (its items map key →
+    (value, parent mapping, file) so every entry keeps its own location)."""
     if not isinstance(section, dict):
         return []
     return [(k, v, parent, f) for k, (v, parent, f) in section.items()]
@@ -21,7 +22,7 @@ def _entries(section):
 
 def load_inputs(section, errs) -> dict[str, InputDecl]:
     out = {}
-    for key, val, parent, f in _entries(section):
+    for key, val, parent, f in entries(section):
         loc = Y.key_loc(parent, key, f, f"inputs.{key}")
         val = val if val is not None else {}
         if isinstance(val, str):
@@ -31,7 +32,7 @@ def load_inputs(section, errs) -> dict[str, InputDecl]:
             continue
         bad = [k for k in val if k not in INPUT_KEYS]
         for k in bad:
-            errs.add(f"unknown key '{k}' in input '{key}'{registry.suggest(str(k), INPUT_KEYS)}",
+            errs.add(f"unknown key '{k}' in input '{key}'{suggest(str(k), INPUT_KEYS)}",
                      Y.key_loc(val, k, f), f"allowed: {', '.join(INPUT_KEYS)}")
         hold = str(val.get("hold", "linear"))
         if hold not in ("linear", "zoh"):
@@ -49,7 +50,7 @@ def load_inputs(section, errs) -> dict[str, InputDecl]:
 
 def load_outputs(section, errs) -> dict[str, OutputDecl]:
     out = {}
-    for key, val, parent, f in _entries(section):
+    for key, val, parent, f in entries(section):
         ypath = f"outputs.{key}"
         loc = Y.key_loc(parent, key, f, ypath)
         if isinstance(val, str):
@@ -60,7 +61,7 @@ def load_outputs(section, errs) -> dict[str, OutputDecl]:
             val, expr_loc = None, loc
         bad = [k for k in (val or {}) if k not in OUTPUT_KEYS]
         for k in bad:
-            errs.add(f"unknown key '{k}' in output '{key}'{registry.suggest(str(k), OUTPUT_KEYS)}",
+            errs.add(f"unknown key '{k}' in output '{key}'{suggest(str(k), OUTPUT_KEYS)}",
                      Y.key_loc(val, k, f, f"{ypath}.{k}"), f"allowed: {', '.join(OUTPUT_KEYS)}")
         if val is None or ("expr" not in val and not bad):
             errs.add(f"output '{key}' needs an expression, e.g. '{key}: chamber_a.p' or '{{expr: ..., unit: bar}}'",
@@ -82,7 +83,7 @@ def load_outputs(section, errs) -> dict[str, OutputDecl]:
 def load_initial(section, defaults, errs) -> dict[str, ParamValue]:
     """Initial values keyed by state name; the unit is checked when the model is built."""
     out = {}
-    for key, val, parent, f in _entries(section):
+    for key, val, parent, f in entries(section):
         loc = Y.value_loc(parent, key, f, f"initial.{key}")
         if isinstance(val, (int, float)) and not isinstance(val, bool):
             out[str(key)] = ParamValue(float(val), loc, unit=None)

@@ -21,7 +21,7 @@ from __future__ import annotations
 import copy
 from dataclasses import dataclass, field
 
-from ..components.registry import suggest
+from ..suggest import suggest
 from ..errors import Location, ProblemCollector
 from . import yamldoc as Y
 

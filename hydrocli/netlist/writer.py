@@ -16,6 +16,7 @@ from ruamel.yaml.comments import CommentedMap, CommentedSeq
 from ruamel.yaml.scalarstring import DoubleQuotedScalarString, SingleQuotedScalarString
 
 from ..components import registry
+from ..suggest import suggest
 from ..errors import Location, NetlistError, Problem
 from ..units import dimensionality, from_si
 from . import yamldoc as Y
@@ -47,7 +48,7 @@ def add_component(net: Netlist, name: str, type: str, ports: dict[str, str],
     """Add a component; ``params`` values are SI numbers, unit strings or {value, free, bounds} maps."""
     cls = registry.get(type)
     if cls is None:
-        raise NetlistError(_problem(f"unknown component type '{type}'{registry.suggest(type, registry.all_types())}",
+        raise NetlistError(_problem(f"unknown component type '{type}'{suggest(type, registry.all_types())}",
                                     net, "'hydro components' lists the types"))
     for port in ports:
         if cls.port(port) is None:
@@ -124,7 +125,7 @@ def _top_component(net: Netlist, doc, name: str) -> CommentedMap:
         hint = (f"it is defined in {where}; edit that file" if where and where != net.file else
                 f"components of the main file: {', '.join(map(str, comps))}")
         raise NetlistError(_problem(f"component '{name}' is not written in {net.file}"
-                                    f"{registry.suggest(name, list(map(str, comps)))}", net, hint))
+                                    f"{suggest(name, list(map(str, comps)))}", net, hint))
     return comps[name]
 
 
@@ -170,7 +171,7 @@ class _Slot:
         spec = registry.get(decl.type).param(self.pname) if decl else None
         if spec is None:
             known = [f"{c}.{p}" for c, d in net.components.items() for p in d.params]
-            raise NetlistError(_problem(f"no parameter '{name}'{registry.suggest(name, known)}", net,
+            raise NetlistError(_problem(f"no parameter '{name}'{suggest(name, known)}", net,
                                         "parameter names are COMPONENT.PARAMETER, e.g. valve.Kv"))
         self.si_unit, self.pv = spec.unit, decl.params.get(self.pname)
         comps = _components(doc, net)

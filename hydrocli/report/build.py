@@ -1,48 +1,32 @@
-"""``build_report(paths, out)``: the multi-page PDF of one or more result files, written to a
-temporary file in the target folder and renamed (a crash never leaves a half PDF)."""
+"""``build_report(paths, out)``: the multi-page PDF of one or more result files (written
+atomically by ``report.document.write_pdf``)."""
 from __future__ import annotations
 
 import datetime as _dt
 from pathlib import Path
 
-from ..errors import DataError, Location, Problem
-from . import style
 from .data import Loaded, load
+from .document import write_pdf
 from .pages_params import parameter_pages
 from .pages_signals import experiment_pages
 from .pages_summary import title_pages
-from ..fileio import atomic_path
 
 
 def build_report(paths, out: str | Path, title: str | None = None) -> int:
     """Write the PDF; returns the number of pages."""
     runs = [load(p) for p in paths]          # every file is checked before anything is written
-    out = Path(out)
-    try:
-        with atomic_path(out, suffix=".tmp.pdf") as tmp:
-            n = _write(tmp, runs, title)
-    except OSError as exc:
-        raise DataError(Problem(f"cannot write the report {out}: {exc.strerror or exc}", Location(str(out)),
-                                "choose a writable folder with --out")) from None
-    return n
-
-
-def _write(path: str, runs: list[Loaded], title: str | None) -> int:
-    from matplotlib.backends.backend_pdf import PdfPages
-    import matplotlib.pyplot as plt
-
     machines = ", ".join(sorted({r.res.machine for r in runs}))
-    with plt.rc_context(style.RC), PdfPages(path) as pdf:
-        pages = style.Pages(pdf, f"{title or machines} — {_dt.date.today().isoformat()}")
+
+    def fill(pages) -> None:
         title_pages(pages, runs, title)
         for run in runs:
             experiment_pages(pages, run)
         for run in _distinct_parameter_sets(runs):
             parameter_pages(pages, run)
-        info = pdf.infodict()
-        info.update({"Title": title or f"Model report — {machines}", "Creator": "hydrocli (hydro report)",
-                     "Subject": ", ".join(r.res.experiment for r in runs)})
-        return pages.count
+
+    return write_pdf(out, fill, f"{title or machines} — {_dt.date.today().isoformat()}",
+                     {"Title": title or f"Model report — {machines}", "Creator": "hydrocli (hydro report)",
+                      "Subject": ", ".join(r.res.experiment for r in runs)})
 
 
 def _distinct_parameter_sets(runs: list[Loaded]) -> list[Loaded]:

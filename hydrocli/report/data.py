@@ -1,4 +1,4 @@
-"""What the report (and ``validate --results``) reads from result files: the RunResult,
+"""What the report reads from result files: the RunResult (``runfiles.load_run``),
 a few /meta attributes RunResult does not carry, display-unit conversion and decimation."""
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from ..errors import DataError, HydroError, Location, Problem
 from ..metrics import all_metrics
-from ..results import RunResult, read_result
+from ..results import RunResult
+from ..runfiles import load_run
 from ..units import si_factor
 
 
@@ -29,23 +29,8 @@ class Loaded:
         return self._metrics
 
 
-def load_result(path: str | Path) -> RunResult:
-    """read_result, with any malformed-file surprise turned into a located DataError."""
-    path = Path(path)
-    if not path.is_file():
-        raise DataError(Problem(f"result file not found: {path}", Location(str(path)), "check the path"))
-    try:
-        return read_result(path)
-    except HydroError:
-        raise
-    except Exception as exc:  # missing datasets, wrong dtypes…
-        raise DataError(Problem(f"{path} is not a readable hydrocli result file ({exc.__class__.__name__}: {exc})",
-                                Location(str(path)),
-                                "give an HDF5 file written by 'hydro simulate', 'identify' or 'validate --out-dir'")) from None
-
-
 def load(path: str | Path) -> Loaded:
-    res = load_result(path)
+    res = load_run(path)
     with h5py.File(path, "r") as h:
         meta = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in h["meta"].attrs.items()}
     return Loaded(str(path), res, meta)

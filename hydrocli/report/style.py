@@ -1,12 +1,13 @@
-"""One look for every report page: A4 landscape, readable fonts, fixed colours, table helper."""
+"""One look for every report page: A4 (landscape for the model report, portrait for the
+diagnosis), readable fonts, fixed colours, table helper. Figures are plain
+``matplotlib.figure.Figure`` objects saved into a PdfPages document (``report.document``):
+no pyplot state and no backend switch at import."""
 from __future__ import annotations
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.figure import Figure
 
 PAGE = (11.69, 8.27)                # A4 landscape, inches
+PORTRAIT = (8.27, 11.69)            # A4 portrait, inches
 MEASURED = "#1f1f1f"
 SIMULATED = "#d62728"
 RESIDUAL = "#1f77b4"
@@ -20,9 +21,14 @@ RC = {
 }
 
 
+def figure(size: tuple[float, float] = PAGE) -> Figure:
+    """A new blank page (A4 landscape by default; ``PORTRAIT`` for the diagnosis)."""
+    return Figure(figsize=size)
+
+
 def page(title: str, subtitle: str = ""):
     """A new A4 landscape figure with a page title (and an optional grey subtitle)."""
-    fig = plt.figure(figsize=PAGE)
+    fig = figure(PAGE)
     fig.text(0.04, 0.965, title, fontsize=14, weight="bold", va="top")
     if subtitle:
         fig.text(0.04, 0.93, subtitle, fontsize=9, color="0.35", va="top")
@@ -76,4 +82,3 @@ class Pages:
         self.count += 1
         footer(fig, f"{self.footer_text}   —   page {self.count}" if self.footer_text else f"page {self.count}")
         self.pdf.savefig(fig)
-        plt.close(fig)

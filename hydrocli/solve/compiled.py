@@ -1,4 +1,5 @@
-"""Compiled simulation: generated model C code + the Rodas4 integrator in one .so.
+"""Compiled simulation: generated model C code + the Rosenbrock integrator (Rodas5P by
+default; Rodas4 and Rodas4P selectable at compile time, ``csrc/hy_methods.h``) in one .so.
 
 The code generator emits a C translation unit that defines ``HY_NX``, ``HY_NP``,
 ``HY_NU``, ``HY_NY``, ``HY_NNZ``, ``HY_JAC_ROW``/``HY_JAC_COL`` and the functions

@@ -12,6 +12,7 @@ import numpy as np
 
 from ..errors import Problem, SolverError
 from ..model.model import Model
+from .library import compiled
 
 
 @dataclass
@@ -59,7 +60,7 @@ def simulate(model: Model, inputs: InputTable, t_out: np.ndarray, p: np.ndarray 
     backend = opts.backend
     if backend in ("auto", "compiled"):
         try:
-            lib = model.compiled()
+            lib = compiled(model)
         except Exception as exc:  # no compiler: fall back unless compiled was demanded
             if backend == "compiled":
                 raise SolverError(f"cannot compile the model: {exc}",

@@ -18,10 +18,11 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from hydrocli.experiments.experiment import load_experiment  # noqa: E402
+from hydrocli.experiments.experiment_file import load_experiment  # noqa: E402
 from hydrocli.identify.fit import fit  # noqa: E402
 from hydrocli.metrics import esr  # noqa: E402
 from hydrocli.runner import load_machine, simulate_experiment  # noqa: E402
+from hydrocli.solve.library import compiled  # noqa: E402
 from hydrocli.solve.simulate import SolverOptions  # noqa: E402
 
 
@@ -34,7 +35,7 @@ def main() -> None:
     _, model = load_machine(ROOT / "machines" / "eha_testbench.yaml")
     train = load_experiment(ROOT / "experiments" / "eha" / "none_train.yaml", model)
     val = load_experiment(ROOT / "experiments" / "eha" / "none_validate.yaml", model)
-    model.compiled()
+    compiled(model)
     t0, c0 = time.perf_counter(), time.process_time()
     res = fit(model, [train], method="least-squares", max_evals=a.max_evals, opts=SolverOptions(rtol=a.rtol),
               workers=a.workers)

@@ -7,7 +7,8 @@ import pytest
 
 from hydrocli.model import expr as E
 from hydrocli.model.builder import build_model
-from hydrocli.model.codegen import _Names, generate_c, jacobian_pattern
+from hydrocli.model.codegen import _Names, generate_c
+from hydrocli.model.equations import jacobian_pattern
 from hydrocli.model.jacobian import jacobian_numpy_source
 from hydrocli.netlist.loader import load_netlist
 

@@ -80,7 +80,7 @@ def test_diagnose_names_coulomb_friction_and_improves_validation(case):
     model = build_model(load_netlist(d / "augmented.yaml"))
     assert {"friction.kc_p", "friction.kc_m"} <= set(model.free_params)
     assert "Coulomb friction" in console_summary(diag)
-    from hydrocli.diagnose.report_pages import write_report
+    from hydrocli.report.diagnosis import write_report
     write_report(diag, d / "report.pdf")
     assert (d / "report.pdf").read_bytes()[:4] == b"%PDF"
 

@@ -20,8 +20,9 @@ def _cache_dir(tmp_path_factory):
 @pytest.fixture(scope="session")
 def eha():
     from hydrocli.runner import load_machine
+    from hydrocli.solve.library import compiled
     net, model = load_machine(EHA)
-    model.compiled()
+    compiled(model)
     return net, model
 
 

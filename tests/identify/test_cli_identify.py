@@ -52,8 +52,12 @@ def test_several_experiments_write_one_result_per_experiment(tmp_path, eha):
     assert (tmp_path / "run_runA.h5").exists() and (tmp_path / "run_runB.h5").exists()
 
 
-def test_stages_file_runs_stages_in_order(tmp_path, eha):
+def test_stages_file_runs_stages_in_order(tmp_path, eha, monkeypatch):
+    import hydrocli.experiments.experiment_file as ef
     _, model = eha
+    loads = []
+    real = ef.load_all
+    monkeypatch.setattr(ef, "load_all", lambda path, m: loads.append(str(path)) or real(path, m))
     csv, truth = _recording(tmp_path, model, kv_factor=1.15)
     exp = tmp_path / "e.yaml"
     exp.write_text(f"data: {csv.name}\ninputs: {{u: u, Ps: Ps, Fext: Fext}}\noutputs: {{P1: P1, P2: P2, v: v}}\n")
@@ -65,6 +69,7 @@ def test_stages_file_runs_stages_in_order(tmp_path, eha):
                 "--rtol", "1e-7")
     assert r.exit_code == 0, r.output
     assert "== stage: valve gain" in r.output and "== stage: mass" in r.output
+    assert loads == [str(exp)]                      # two stages on one file: loaded once, not three times
     with h5py.File(tmp_path / "r.h5") as h:
         assert set(h["identify/stages"].keys()) == {"1_valve gain", "2_mass"}
         est = dict(zip([n.decode() if isinstance(n, bytes) else n for n in h["identify/names"][()]],

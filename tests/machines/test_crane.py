@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hydrocli.components.multibody.mobility import mechanism_mobility
+from hydrocli.graph.mobility import mechanism_mobility
 from hydrocli.experiments.experiment_file import load_experiment_file
 from hydrocli.model.builder import build_model
 from hydrocli.netlist.loader import load_netlist

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from hydrocli.experiments.experiment_file import load_all
+from hydrocli.experiments.initial import initial_state
 from hydrocli.metrics import esr
 from hydrocli.runner import load_machine
 from hydrocli.solve.simulate import SolverOptions, simulate
@@ -29,7 +30,7 @@ def test_identified_festo_model_reproduces_a_real_recording(exp_name, tmp_path, 
     _, model = load_machine(IDENTIFIED, [])
     side = exp_name.split("_")[1]
     exp, = load_all(ROOT / "experiments" / "festo" / f"steps_{side}.yaml#{exp_name}", model)
-    tr = simulate(model, exp.inputs, exp.t_out, x0=exp.x0(model), opts=SolverOptions(rtol=1e-6))
+    tr = simulate(model, exp.inputs, exp.t_out, x0=initial_state(model, exp), opts=SolverOptions(rtol=1e-6))
     for out, limit in LIMITS[exp_name].items():
         y, m = exp.measured[out], exp.mask.get(out, np.ones(exp.t_out.size, bool))
         y_hat = tr.Y[:, model.output_names.index(out)]

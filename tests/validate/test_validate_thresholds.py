@@ -51,3 +51,19 @@ def test_score_rows_and_missing_measurement():
     assert [(r.output, r.passed) for r in rows] == [("a", True), ("b", False)]
     assert rows[0].esr == pytest.approx(15.0)
     assert rows[1].note == "not measured"
+
+
+def test_validate_scores_derived_outputs_without_mutating_the_experiments(monkeypatch):
+    """dp = P1 − P2 is derived into a copy: the loaded experiment keeps only what it recorded."""
+    from pathlib import Path
+
+    import hydrocli.experiments.experiment_file as ef
+    from hydrocli.validate import Thresholds, validate_machine
+    root = Path(__file__).resolve().parents[2]
+    kept = []
+    real = ef.load_all
+    monkeypatch.setattr(ef, "load_all", lambda path, m: kept.extend(real(path, m)) or kept)
+    verdict = validate_machine(root / "machines" / "eha_testbench.yaml",
+                               [root.parent / "shared" / "recordings" / "eha_none" / "validate.csv"], Thresholds())
+    assert "dp" in verdict.results[0].measured
+    assert "dp" not in kept[0].measured and {"P1", "P2"} <= set(kept[0].measured)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ...netlist.model import Netlist
+from ..netlist.model import Netlist
 
 
 @dataclass

@@ -1,6 +1,7 @@
 """What ``hydro identify`` prints and writes: the progress bar, the parameter table with
 standard errors, the correlation matrix, warnings, the diff of the machine file, the
-identified YAML and the HDF5 results."""
+identified YAML and the HDF5 results. Terminal output lives in cli/, never in the
+library (identify/ returns data: FitResult, BatchResult)."""
 from __future__ import annotations
 
 from contextlib import contextmanager
@@ -24,7 +25,7 @@ class _Progress:
 @contextmanager
 def progress_bar(total: int):
     """A rich progress bar on stderr (iteration, cost, best cost); quiet when not a terminal."""
-    from ..cli import tables
+    from . import tables
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
     console = tables.console(stderr=True)
     with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[info]}"),
@@ -80,7 +81,7 @@ def write_outputs(net, model, exps, p, names, identify: dict, out: Path, results
     from ..metrics import esr
     from ..netlist.writer import diff_text, set_parameters
     from ..netlist.yamldoc import write_atomic
-    from ..results import write_result
+    from ..runfiles import write_run
     from ..runner import simulate_experiment
 
     values = {n: float(p[model.param_index(n)]) for n in names}
@@ -97,5 +98,5 @@ def write_outputs(net, model, exps, p, names, identify: dict, out: Path, results
         if results:
             res.identify = identify
             path = results if len(exps) == 1 else results.with_name(f"{results.stem}_{exp.name}{results.suffix}")
-            write_result(path, res)
+            write_run(path, res)
             typer.echo(f"result → {path}")

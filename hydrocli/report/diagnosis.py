@@ -1,35 +1,37 @@
-"""The diagnosis PDF (matplotlib, Agg): 1) residual localisation — residual over time with
-the worst windows shaded, regime concentration, residual spectra, equation errors;
+"""The diagnosis PDF (A4 portrait, built on the report stack: ``report.style`` figures,
+``report.document.write_pdf``, atomic write): 1) residual localisation — residual over time
+with the worst windows shaded, regime concentration, residual spectra, equation errors;
 2) the candidate ranking; 3) before/after on training data; 4) before/after on validation
-data. One function per page."""
+data. One function per page. ``diag`` is a :class:`hydrocli.diagnose.engine.Diagnosis`
+(read only: its ``data`` dict, experiments, outputs and base/final fits)."""
 from __future__ import annotations
 
+import datetime as _dt
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.backends.backend_pdf import PdfPages  # noqa: E402
-
-from ..errors import HydroError  # noqa: E402
-from ..units import si_factor  # noqa: E402
-
-A4 = (8.27, 11.69)
+from ..errors import HydroError
+from ..units import si_factor
+from . import style
+from .document import write_pdf
 
 
-def write_report(diag, path: Path) -> None:
-    with PdfPages(path) as pdf:
+def write_report(diag, path: str | Path) -> int:
+    """Write the four diagnosis pages to ``path`` (atomically); returns the page count."""
+    name = Path(diag.data["machine"]).name
+
+    def fill(pages) -> None:
         for page in (_localisation, _ranking, _before_after_train, _before_after_validation):
-            fig = page(diag)
-            pdf.savefig(fig)
-            plt.close(fig)
+            pages.add(page(diag))
+
+    return write_pdf(path, fill, f"Diagnosis of {name} — {_dt.date.today().isoformat()}",
+                     {"Title": f"Diagnosis of {name}", "Creator": "hydrocli (hydro diagnose)"})
 
 
 def _localisation(diag):
     d, base = diag.data, diag.base
-    fig = plt.figure(figsize=A4)
+    fig = style.figure(style.PORTRAIT)
     fig.suptitle(f"Diagnosis of {Path(d['machine']).name}: where the base model fails\n"
                  f"verdict: {d['verdict']} ({', '.join(d['effects'])})", fontsize=11)
     gs = fig.add_gridspec(4, 2, hspace=0.6, wspace=0.35)
@@ -73,7 +75,7 @@ def _localisation(diag):
 
 def _ranking(diag):
     d = diag.data
-    fig = plt.figure(figsize=A4)
+    fig = style.figure(style.PORTRAIT)
     ax = fig.add_subplot(111)
     ax.axis("off")
     rows = [f"{'round':>5} {'effect':<28} {'component':<22} {'score':>7} {'ΔBIC':>9} {'pass':>5}"]
@@ -88,7 +90,7 @@ def _ranking(diag):
 
 
 def _before_after(diag, exps, before, after, title):
-    fig = plt.figure(figsize=A4)
+    fig = style.figure(style.PORTRAIT)
     fig.suptitle(title, fontsize=11)
     e, Yb, Ya = exps[0], before[0], after[0]
     outs = [o for o in diag.outputs if o in e.measured]
