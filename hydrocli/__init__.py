@@ -16,7 +16,7 @@ callable: calling it runs :func:`hydrocli.api.diagnose`.
 import sys as _sys
 import types as _types
 
-__version__ = "0.1.0"
+from .version import __version__
 
 __all__ = ["__version__", "load_machine", "load_experiment", "diagnose", "Machine", "SimulationResult", "Fit"]
 

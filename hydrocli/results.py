@@ -16,7 +16,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from . import __version__
+from .version import __version__
 from .errors import DataError, Location, Problem
 from .fileio import atomic_path
 from .units import si_unit

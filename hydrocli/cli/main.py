@@ -20,7 +20,7 @@ _state = {"debug": False}
 
 def _print_version(value: bool) -> None:
     if value:
-        from .. import __version__
+        from ..version import __version__
         typer.echo(f"hydrocli {__version__}")
         raise typer.Exit(0)
 

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
+from ..version import __version__
 from ..errors import HydroError, Problem, SolverError
 from ..model.model import Model
 from ..solve.compiled import CFLAGS, LDLIBS, integrator_source
