@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import time
 from contextlib import nullcontext
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -33,7 +33,7 @@ from ..netlist.loader import load_netlist
 from ..netlist.model import Netlist
 from . import accept, augment, baseline, design, findings, locate, nuisance, residuals, stats, workers
 from .candidates import Candidate, Context, catalogue
-from .equations import equation_errors
+from .equations import equation_errors, measured_states
 from .measurement import sensed_states, with_pressure_sensors
 
 
@@ -128,14 +128,13 @@ def _log(progress, msg):
 def load_data(model, net, paths):
     """Every experiment the paths name (all of a multi-experiment file, as in identify);
     states read by a modelled sensor start from the sensor's first sample."""
-    exps = [e for p in paths for e in load_all(p, model)]
-    sensed = sensed_states(net)
-    from .equations import measured_states
-    for e in exps:
-        for s, o in measured_states(model, e).items():
-            if s in sensed.values() and o in e.measured:
-                e.initial[s] = float(e.measured[o][0])
-    return exps
+    sensed = set(sensed_states(net).values())
+    out = []
+    for e in (e for p in paths for e in load_all(p, model)):
+        start = {s: float(e.measured[o][0]) for s, o in measured_states(model, e).items()
+                 if s in sensed and o in e.measured}
+        out.append(replace(e, initial={**e.initial, **start}) if start else e)
+    return out
 
 
 def _stage(net, model, p, cost, free, train, validate, outputs) -> Stage:
@@ -183,7 +182,7 @@ def prepare(machine, train_paths, validate_paths, settings: Settings) -> Setup:
         raise DataError(Problem("no machine output is measured in both the training and the validation data",
                                 hint=f"map recording columns to outputs ({', '.join(model.output_names)}) "
                                      "in the experiment files"))
-    residuals.focus(train + validate, outputs)
+    train, validate = residuals.focus(train, outputs), residuals.focus(validate, outputs)
     noise = {o: float(np.mean([stats.noise_esr(e.measured[o]) for e in validate if o in e.measured]))
              for o in outputs}
     sigma = {o: float(np.sqrt(noise[o] / 100.0 * np.mean([np.nanvar(e.measured[o]) for e in validate

@@ -4,6 +4,8 @@ identification cost (``identify.cost``, ESR scaling: r = (ŷ − y)/(std(y)·√
 sum of squares is Σ ESR/100 and sensitivities are comparable across outputs."""
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ..errors import HydroError
@@ -22,11 +24,10 @@ def objective(model: Model, exps: list[Experiment]) -> Objective:
     return Objective(model, make_targets(model, exps, None, "esr"), OPTS)
 
 
-def focus(exps: list[Experiment], outputs: list[str]) -> None:
-    """Fit, in every experiment, the diagnosis outputs it measures (a sensor moved between
-    runs — chamber A in some recordings, B in others — still counts where it was)."""
-    for e in exps:
-        e.fit_outputs = [o for o in outputs if o in e.measured]
+def focus(exps: list[Experiment], outputs: list[str]) -> list[Experiment]:
+    """Copies that fit, in every experiment, the diagnosis outputs it measures (a sensor moved
+    between runs — chamber A in some recordings, B in others — still counts where it was)."""
+    return [replace(e, fit_outputs=[o for o in outputs if o in e.measured]) for e in exps]
 
 
 def simulate_outputs(model: Model, exps: list[Experiment], p: np.ndarray) -> list[np.ndarray]:
