@@ -65,17 +65,19 @@ MAX_JACOBIAN_CHARS = 1_000_000  # beyond this, compile time outweighs the gain: 
 
 
 class StateDeps:
-    """Which states each variable and each derivative depends on (through variables)."""
+    """Which states (or, with ``kind="param"``, which parameters) each variable and each
+    derivative depends on (through variables)."""
 
-    def __init__(self, eqs: Equations):
+    def __init__(self, eqs: Equations, kind: str = "state"):
         self.eqs = eqs
-        self.index = {s: i for i, s in enumerate(eqs.states)}
+        self.kind = kind
+        self.index = {s: i for i, s in enumerate(eqs.states if kind == "state" else eqs.params)}
         self.of_var: dict[str, frozenset[int]] = {}
 
     def of(self, e: E.Expr) -> frozenset[int]:
         out: set[int] = set()
         for k, n in e.symbol_set:
-            if k == "state":
+            if k == self.kind:
                 out.add(self.index[n])
             elif k == "var":
                 if n not in self.of_var:
@@ -127,7 +129,10 @@ class _Names:
         return got if got is not None else self.map[key]
 
 
-def generate_c(eqs: Equations, name: str = "model", analytic_jacobian: bool = True) -> str:
+def generate_c(eqs: Equations, name: str = "model", analytic_jacobian: bool = True,
+               sensitivities: bool = False) -> str:
+    """The model's C translation unit; ``sensitivities`` adds ∂f/∂p, ∂g/∂x and ∂g/∂p
+    (``HY_HAS_SENS``, see :mod:`hydrocli.model.jacobian`) for ``hy_simulate_sens``."""
     nx, npar, nu, ny = len(eqs.states), len(eqs.params), len(eqs.inputs), len(eqs.outputs)
     names = _Names(eqs)
     rows, cols = jacobian_pattern(eqs)
@@ -157,7 +162,11 @@ def generate_c(eqs: Equations, name: str = "model", analytic_jacobian: bool = Tr
     lines += ["    return 0;", "}", ""]
     if analytic_jacobian:
         from .jacobian import jacobian_c
-        lines += jacobian_c(eqs, names, rows, cols, max_chars=MAX_JACOBIAN_CHARS)
+        jac = jacobian_c(eqs, names, rows, cols, max_chars=None if sensitivities else MAX_JACOBIAN_CHARS)
+        lines += jac
+        if sensitivities:
+            from .jacobian import sensitivity_c
+            lines += sensitivity_c(eqs, names)
     return "\n".join(lines)
 
 
