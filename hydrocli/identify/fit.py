@@ -29,6 +29,7 @@ from ..model.model import Model
 from ..solve.simulate import SolverOptions
 from .cost import Objective, make_targets
 from .transforms import FreeParameters
+from .uncertainty import Uncertainty, assess_fit
 
 METHODS = ("least-squares", "nelder-mead", "differential-evolution")
 GRADIENTS = ("auto", "sensitivities", "finite-differences")
@@ -60,6 +61,7 @@ class FitResult:
     n_effective: float = 0.0                 # independent residual samples (AR(1) estimate)
     gradient: str = "finite-differences"     # how the least-squares Jacobian was computed
     jacobian: np.ndarray | None = None       # ∂r/∂p at the optimum (parameter units), for the reports
+    uncertainty: Uncertainty | None = None   # intervals, identifiability, fixed-parameter effects (assess=True)
 
     def as_dict(self) -> dict:
         """The /identify group of the HDF5 result."""
@@ -70,7 +72,8 @@ class FitResult:
                 "interrupted": int(self.interrupted), "seconds": self.seconds,
                 "stderr_white": self.stderr if self.stderr_white is None else self.stderr_white,
                 "n_effective": self.n_effective or self.n_residuals,
-                "warnings": np.array(self.warnings or [""], dtype=object)}
+                "warnings": np.array(self.warnings or [""], dtype=object), "gradient": self.gradient,
+                **(self.uncertainty.as_dict() if self.uncertainty is not None else {})}
 
 
 class _Budget(Exception):
@@ -106,10 +109,12 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
         method: str = "least-squares", cost: str = "esr", outputs: list[str] | None = None,
         weights: dict[str, float] | None = None, bounds: dict[str, tuple[float, float]] | None = None,
         p_start: np.ndarray | None = None, max_evals: int = 400, opts: SolverOptions | None = None,
-        progress=None, seed: int = 0, workers: int = 1, gradient: str = "auto") -> FitResult:
+        progress=None, seed: int = 0, workers: int = 1, gradient: str = "auto", assess: bool = False) -> FitResult:
     """``workers`` > 1 evaluates finite-difference Jacobian columns in that many threads
     (the compiled solver releases the GIL); the result does not depend on it. ``gradient``:
-    ``auto`` uses sensitivities when the model has an analytic Jacobian."""
+    ``auto`` uses sensitivities when the model has an analytic Jacobian. ``assess`` adds
+    bootstrap intervals, the identifiability report and the effect of the fixed parameters
+    (:mod:`.uncertainty`; one more sensitivity simulation)."""
     if method not in METHODS:
         raise IdentifyError(Problem(f"unknown method '{method}'", hint=f"use one of {', '.join(METHODS)}"))
     if gradient not in GRADIENTS:
@@ -203,6 +208,10 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
                     gradient="sensitivities" if use_sens else "finite-differences",
                     jacobian=None if J is None else J / fp.dp_dz(z_best)[None, :])
     res.warnings = fit_warnings(res, fp)
+    if assess and J is not None and r_best is not None and not interrupted:
+        fixed_fn = (lambda names: objective.residuals_jacobian(p_best, names)[1]) if use_sens else None
+        res.uncertainty = assess_fit(model, res, fp, z_best, J, r_best, [int(m.sum()) for t in objective.targets
+                                                                          for m in t.masks], fixed_fn, seed)
     return res
 
 
