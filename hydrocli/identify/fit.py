@@ -122,11 +122,13 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
     fp = FreeParameters.from_model(model, free, bounds)
     base = model.p0 if p_start is None else np.asarray(p_start, float)
     objective = Objective(model, make_targets(model, experiments, outputs, cost, weights), opts)
-    tracker = _Tracker(progress, max_evals)
     z0 = fp.to_z(base[fp.index])
+    use_sens = _sensitivities_available(model, gradient)
+    # simulations kept for after the search: residuals and Jacobian at the optimum (+ the fixed parameters')
+    reserve = (1 + 1 + int(assess)) if use_sens else len(z0) + 1
+    tracker = _Tracker(progress, max(max_evals - reserve, 1))
     lock = threading.Lock()
     last: dict = {}
-    use_sens = _sensitivities_available(model, gradient)
 
     def residuals(z):
         with lock:
@@ -212,6 +214,9 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
         fixed_fn = (lambda names: objective.residuals_jacobian(p_best, names)[1]) if use_sens else None
         res.uncertainty = assess_fit(model, res, fp, z_best, J, r_best, [int(m.sum()) for t in objective.targets
                                                                           for m in t.masks], fixed_fn, seed)
+    res.n_evals = objective.n_evals
+    if progress:
+        progress(res.n_evals, res.cost, res.cost)       # the bar ends on every simulation the fit ran
     return res
 
 
