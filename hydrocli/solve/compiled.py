@@ -40,6 +40,8 @@ _INTEGRATOR = _CSRC / "hy_integrator.c"
 #: compiler flags (part of the cache key).  No -ffast-math: the integrator relies
 #: on IEEE semantics (isfinite, NaN propagation).
 CFLAGS = ("-O2", "-fPIC", "-shared", "-ffp-contract=off")
+#: the library with sensitivities: its dense column loops gain ~15 % from -O3 (same IEEE semantics)
+SENS_CFLAGS = ("-O3",) + CFLAGS[1:]
 LDLIBS = ("-lm",)
 
 STATS_NAMES = (
@@ -110,7 +112,7 @@ def _tail(text: str, n: int = 40) -> str:
     return "\n".join(lines[-n:])
 
 
-def build_library(c_source: str, *, cache_dir: Path | None = None) -> Path:
+def build_library(c_source: str, *, cache_dir: Path | None = None, cflags: tuple[str, ...] = CFLAGS) -> Path:
     """Compile ``c_source`` + the integrator into a cached shared library.
 
     The cache key is the sha256 of the model source, the integrator source, the
@@ -131,7 +133,7 @@ def build_library(c_source: str, *, cache_dir: Path | None = None) -> Path:
     )
     version = _compiler_version(cc)
     h = hashlib.sha256()
-    for part in (c_source, integ, " ".join(CFLAGS + LDLIBS), cc, version):
+    for part in (c_source, integ, " ".join(cflags + LDLIBS), cc, version):
         h.update(part.encode("utf-8"))
         h.update(b"\0")
     key = h.hexdigest()[:32]
@@ -145,7 +147,7 @@ def build_library(c_source: str, *, cache_dir: Path | None = None) -> Path:
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(full)
-        cmd = [cc, *CFLAGS, "-o", tmp_so, tmp_c, *LDLIBS]
+        cmd = [cc, *cflags, "-o", tmp_so, tmp_c, *LDLIBS]
         try:
             proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600, check=False)
         except OSError as exc:

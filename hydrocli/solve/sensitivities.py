@@ -38,8 +38,8 @@ def sensitivity_library(model: Model):
     """The model compiled with ``hy_simulate_sens`` (built once per model object)."""
     lib = model.__dict__.get("_sens_compiled")
     if lib is None:
-        from .compiled import CompiledModel, build_library
-        so = build_library(generate_c(model.equations, model.name, sensitivities=True))
+        from .compiled import SENS_CFLAGS, CompiledModel, build_library
+        so = build_library(generate_c(model.equations, model.name, sensitivities=True), cflags=SENS_CFLAGS)
         eq = model.equations
         lib = CompiledModel(so, len(eq.states), len(eq.params), len(eq.inputs), len(eq.outputs))
         model.__dict__["_sens_compiled"] = lib
