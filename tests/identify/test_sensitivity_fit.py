@@ -97,3 +97,30 @@ def test_intervals_bracket_the_truth_on_a_clean_synthetic_fit(lag):
         assert u.ci_lower[i] <= truth[n] <= u.ci_upper[i]
         # a white-noise fit: the bootstrap interval agrees with ±1.96 standard errors within 25 %
         assert (u.ci_upper[i] - u.ci_lower[i]) == pytest.approx(2 * 1.96 * res.stderr_white[i], rel=0.25)
+
+
+def test_residual_jacobian_carries_the_settling_runs_sensitivity(lag):
+    """An experiment that settles first starts from x0(p): ∂r/∂p includes ∂x0/∂p (central
+    differences of the residuals, which re-run the settling, as the reference)."""
+    from dataclasses import replace
+
+    from hydrocli.identify.cost import Objective, make_targets
+    model, exp = lag
+    exp = replace(exp, inputs=InputTable(exp.inputs.t, exp.inputs.U + 1.0))    # settles at y = k·1, not 0
+    settled = replace(exp, settle=1.0)
+    obj = Objective(model, make_targets(model, [settled]), SolverOptions(rtol=1e-10, atol_factor=1.0))
+    names = ["lag.k", "lag2.tau", "lag.tau"]
+    p = model.p0
+    _, J = obj.residuals_jacobian(p, names)
+    for c, n in enumerate(names):
+        k = model.param_index(n)
+        h = 1e-4 * p[k]
+        up, dn = p.copy(), p.copy()
+        up[k] += h
+        dn[k] -= h
+        fd = (obj.residuals(up) - obj.residuals(dn)) / (2 * h)
+        # (the settling run itself integrates at rtol 1e-6, which bounds the agreement)
+        assert J[:, c] == pytest.approx(fd, rel=1e-3, abs=1e-3 * np.max(np.abs(fd))), n
+    # and ∂x0/∂k matters: without it the k column would be far off
+    _, J0 = Objective(model, make_targets(model, [exp]), obj.opts).residuals_jacobian(p, ["lag.k"])
+    assert np.max(np.abs(J0[:, 0] - J[:, 0])) > 0.1 * np.max(np.abs(J[:, 0]))
