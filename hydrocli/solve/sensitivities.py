@@ -21,6 +21,14 @@ from ..model.model import Model
 from .simulate import InputTable, SolverOptions, _hold_flags, _solver_error, atol_vector
 
 X0_PREFIX = "x0:"
+#: above this estimated size of the analytic Jacobian's code the sensitivity code (about ten
+#: times larger: the crane's would be 19 MB of C) costs more to compile than it saves; the
+#: harvester (135 k) is below, the knuckle-boom crane (1.1 M) above
+MAX_JACOBIAN_CHARS = 200_000
+
+
+class SensitivitiesUnavailable(Exception):
+    """The model is too large for generated sensitivity code (use finite differences)."""
 
 
 @dataclass
@@ -38,6 +46,12 @@ def sensitivity_library(model: Model):
     """The model compiled with ``hy_simulate_sens`` (built once per model object)."""
     lib = model.__dict__.get("_sens_compiled")
     if lib is None:
+        from ..model.codegen import _Names
+        from ..model.jacobian import jacobian_size
+        size = jacobian_size(model.equations, _Names(model.equations))
+        if size > MAX_JACOBIAN_CHARS:
+            raise SensitivitiesUnavailable(f"the model's analytic Jacobian would be ~{size // 1000} k characters of C "
+                                           f"(limit {MAX_JACOBIAN_CHARS // 1000} k)")
         from .compiled import SENS_CFLAGS, CompiledModel, build_library
         so = build_library(generate_c(model.equations, model.name, sensitivities=True), cflags=SENS_CFLAGS)
         eq = model.equations

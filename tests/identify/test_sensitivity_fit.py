@@ -124,3 +124,14 @@ def test_residual_jacobian_carries_the_settling_runs_sensitivity(lag):
     # and ∂x0/∂k matters: without it the k column would be far off
     _, J0 = Objective(model, make_targets(model, [exp]), obj.opts).residuals_jacobian(p, ["lag.k"])
     assert np.max(np.abs(J0[:, 0] - J[:, 0])) > 0.1 * np.max(np.abs(J[:, 0]))
+
+
+def test_a_model_too_large_for_sensitivity_code_falls_back_to_differences(lag, monkeypatch):
+    from hydrocli.errors import IdentifyError
+    from hydrocli.solve import sensitivities
+    model, exp = lag
+    monkeypatch.setattr(sensitivities, "MAX_JACOBIAN_CHARS", 0)
+    model.__dict__.pop("_sens_compiled", None)
+    assert fit(model, [exp], max_evals=20).gradient == "finite-differences"
+    with pytest.raises(IdentifyError, match="sensitivities are not available"):
+        fit(model, [exp], gradient="sensitivities")
