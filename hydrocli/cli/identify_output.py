@@ -4,6 +4,7 @@ identified YAML and the HDF5 results. Terminal output lives in cli/, never in th
 library (identify/ returns data: FitResult, BatchResult)."""
 from __future__ import annotations
 
+import time
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -12,26 +13,45 @@ import typer
 
 
 class _Progress:
-    def __init__(self, prog, task):
-        self.prog, self.task = prog, task
+    """Progress in simulations: the bar's total is ``--max-evals``, the cap fit() honours
+    (every simulation counts: residuals, Jacobian columns, sensitivity runs). Without a
+    terminal, one line on stderr every ``every`` seconds instead of the bar."""
+
+    def __init__(self, prog, task, total: int, terminal: bool, every: float = 5.0):
+        self.prog, self.task, self.total, self.terminal, self.every = prog, task, total, terminal, every
+        self.offset = 0            # simulations of earlier stages (staged identification)
+        self.last_n = 0
+        self.label = "identify"
+        self._t0 = self._last = time.monotonic()
 
     def update(self, n: int, cost: float, best: float) -> None:
-        self.prog.update(self.task, completed=n, info=f"eval {n}  cost {cost:.5g}  best {best:.5g}")
+        done = self.offset + n
+        self.last_n = n
+        info = f"simulation {done}/{self.total}  cost {cost:.5g}  best {best:.5g}"
+        self.prog.update(self.task, completed=done, info=info)
+        now = time.monotonic()
+        if not self.terminal and now - self._last >= self.every:
+            self._last = now
+            typer.echo(f"{self.label}: {info}  ({now - self._t0:.0f} s)", err=True)
 
     def stage(self, text: str) -> None:
+        self.offset += self.last_n
+        self.last_n = 0
+        self.label = text
         self.prog.update(self.task, description=text)
 
 
 @contextmanager
-def progress_bar(total: int):
-    """A rich progress bar on stderr (iteration, cost, best cost); quiet when not a terminal."""
+def progress_bar(total: int, every: float = 5.0):
+    """A rich progress bar on stderr (simulations of ``total``, cost, best cost); without a
+    terminal a plain progress line every ``every`` seconds."""
     from . import tables
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
     console = tables.console(stderr=True)
     with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[info]}"),
                   TimeElapsedColumn(), console=console, transient=False, disable=not console.is_terminal) as prog:
         task = prog.add_task("identify", total=total, info="")
-        yield _Progress(prog, task)
+        yield _Progress(prog, task, total, console.is_terminal, every)
 
 
 def _fmt(v: float) -> str:
@@ -39,17 +59,22 @@ def _fmt(v: float) -> str:
 
 
 def print_fit(res) -> None:
-    typer.echo(f"{res.method}: {res.message} ({res.n_evals} simulations, {res.seconds:.1f} s"
+    typer.echo(f"{res.method}: {res.message} ({res.n_evals} simulations, {res.seconds:.1f} s, "
+               f"Jacobian from {res.gradient}"
                + (", interrupted" if res.interrupted else "") + ")")
     typer.echo(f"cost {res.cost_initial:.6g} → {res.cost:.6g} over {res.n_residuals} residuals")
     if res.n_effective and res.n_effective < res.n_residuals:
         typer.echo(f"standard errors allow for correlated residuals: {res.n_effective:.0f} independent of "
                    f"{res.n_residuals} (× {np.sqrt(res.n_residuals / res.n_effective):.2g} on the white-noise values)")
-    rows = [["parameter", "initial", "estimate", "std error", "rel %", "lower", "upper"]]
+    unc = res.uncertainty
+    rows = [["parameter", "initial", "estimate", "std error", "rel %"]
+            + (["95 % interval (bootstrap)"] if unc is not None else []) + ["lower", "upper"]]
     for i, n in enumerate(res.names):
         se, v = res.stderr[i], res.estimates[i]
         rel = 100 * se / abs(v) if np.isfinite(se) and v != 0 else np.nan
-        rows.append([n, _fmt(res.initial[i]), _fmt(v), _fmt(se), _fmt(rel), _fmt(res.lower[i]), _fmt(res.upper[i])])
+        ci = [f"[{_fmt(unc.ci_lower[i])}, {_fmt(unc.ci_upper[i])}]"] if unc is not None else []
+        rows.append([n, _fmt(res.initial[i]), _fmt(v), _fmt(se), _fmt(rel)] + ci
+                    + [_fmt(res.lower[i]), _fmt(res.upper[i])])
     print_table(rows)
     k = len(res.names)
     if k > 1 and np.isfinite(res.correlation).any():
@@ -64,8 +89,26 @@ def print_fit(res) -> None:
     if hist:
         marks = sorted({0, len(hist) // 4, len(hist) // 2, 3 * len(hist) // 4, len(hist) - 1})
         typer.echo("best cost by evaluation: " + ", ".join(f"#{i + 1}: {hist[i]:.5g}" for i in marks))
+    if unc is not None:
+        print_assessment(unc)
     for w in res.warnings:
         typer.echo(f"warning: {w}", err=True)
+
+
+def print_assessment(unc) -> None:
+    """Identifiability and the fixed parameters the estimates depend on."""
+    if unc.identifiability:
+        typer.echo("identifiability:")
+        for m in unc.identifiability:
+            typer.echo(f"  {m}")
+    if unc.fixed_names:
+        if unc.fixed_effects:
+            typer.echo("fixed parameters the estimates are sensitive to:")
+            for e in unc.fixed_effects:
+                typer.echo(f"  {e.message()}")
+        else:
+            typer.echo(f"fixed parameters: a 10 % error in any of the {len(unc.fixed_names)} fixed parameters moves "
+                       f"no estimate by more than two standard errors")
 
 
 def print_table(rows: list[list]) -> None:

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import HydroError, IdentifyError, Problem
 from ..experiments.experiment import Experiment
-from ..experiments.initial import initial_state
+from ..experiments.initial import given_state, initial_state
 from ..model.model import Model
 from ..solve.simulate import SolverOptions, simulate
 
@@ -113,6 +113,50 @@ class Objective:
                 r = (Y[m, col] - y[m]) / (s * np.sqrt(m.sum()))
                 out.append(np.where(np.isfinite(r), r, FAIL_RESIDUAL))
         return np.concatenate(out) if out else np.zeros(0)
+
+    def residuals_jacobian(self, p: np.ndarray, wrt: list[str]) -> tuple[np.ndarray, np.ndarray]:
+        """Residuals and ∂r/∂p[wrt] from forward sensitivities: one simulation per experiment
+        (``solve.sensitivities``); an experiment that settles first carries ∂x0/∂p from its
+        settling run. A failed simulation gives the failure residual and zero derivatives."""
+        from ..solve.sensitivities import output_sensitivities
+        with self._lock:
+            self.n_evals += 1
+        out_r, out_j = [], []
+        for i, t in enumerate(self.targets):
+            try:
+                dx0 = None
+                x0 = self._x0[i]
+                if x0 is None:
+                    x0, dx0 = self._settle_sensitivities(t.exp, p, wrt)
+                tr = output_sensitivities(self.model, t.exp.inputs, t.exp.t_out, p=p, x0=x0, wrt=wrt,
+                                          opts=self.opts, s0=dx0)
+            except HydroError:
+                with self._lock:
+                    self.n_failed += 1
+                for m in t.masks:
+                    out_r.append(np.full(int(m.sum()), FAIL_RESIDUAL))
+                    out_j.append(np.zeros((int(m.sum()), len(wrt))))
+                continue
+            for col, y, m, s in zip(t.cols, t.values, t.masks, t.scales):
+                k = s * np.sqrt(m.sum())
+                r = (tr.Y[m, col] - y[m]) / k
+                jr = tr.dY[m, col, :] / k
+                bad = ~np.isfinite(r)
+                out_r.append(np.where(bad, FAIL_RESIDUAL, r))
+                out_j.append(np.where(bad[:, None] | ~np.isfinite(jr), 0.0, jr))
+        if not out_r:
+            return np.zeros(0), np.zeros((0, len(wrt)))
+        return np.concatenate(out_r), np.vstack(out_j)
+
+    def _settle_sensitivities(self, exp: Experiment, p: np.ndarray, wrt: list[str]):
+        """x0 after the experiment's settling run and ∂x0/∂p[wrt] (its state sensitivities)."""
+        from ..solve.sensitivities import output_sensitivities
+        from ..solve.simulate import InputTable
+        frozen = InputTable(np.array([0.0]), exp.inputs.U[:1].copy())
+        tr = output_sensitivities(self.model, frozen, np.array([0.0, exp.settle]), p=p,
+                                  x0=given_state(self.model, exp), wrt=wrt, opts=SolverOptions(rtol=1e-6),
+                                  states=True)
+        return tr.X[-1].copy(), tr.dX[-1]
 
     def cost(self, p: np.ndarray) -> float:
         r = self.residuals(p)

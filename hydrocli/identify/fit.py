@@ -2,10 +2,15 @@
 
 Build once, solve many: every trial only changes the parameter array. Methods:
 ``least-squares`` (SciPy trust-region reflective on the residual vector; default),
-``nelder-mead`` (seed 004 §IV), ``differential-evolution`` (global, slower). Standard errors
-and correlations come from the residual Jacobian at the optimum,
-cov = σ²(JᵀJ)⁻¹ with σ² = SSR/(m − k) (Gauss–Newton approximation), mapped from the unit
-box to parameter units. Ctrl-C stops the search and keeps the best point so far.
+``nelder-mead`` (seed 004 §IV), ``differential-evolution`` (global, slower). The
+least-squares Jacobian comes from forward sensitivities integrated with the states
+(``gradient="sensitivities"``, one simulation per Jacobian, exact to the integrator's
+accuracy) or from forward differences (``"finite-differences"``, one simulation per free
+parameter). Standard errors and correlations come from the residual Jacobian at the
+optimum, cov = σ²(JᵀJ)⁻¹ with σ² = SSR/(m − k) (Gauss–Newton approximation), mapped from the
+unit box to parameter units. ``max_evals`` caps every simulation (residuals, Jacobian
+columns, sensitivity runs): the progress callback counts the same simulations. Ctrl-C stops
+the search and keeps the best point so far.
 """
 from __future__ import annotations
 
@@ -24,8 +29,10 @@ from ..model.model import Model
 from ..solve.simulate import SolverOptions
 from .cost import Objective, make_targets
 from .transforms import FreeParameters
+from .uncertainty import Uncertainty, assess_fit
 
 METHODS = ("least-squares", "nelder-mead", "differential-evolution")
+GRADIENTS = ("auto", "sensitivities", "finite-differences")
 FTOL = 1e-6    # least-squares stops when a step lowers the cost by less than this fraction
 
 
@@ -52,6 +59,9 @@ class FitResult:
     warnings: list[str] = field(default_factory=list)
     stderr_white: np.ndarray | None = None   # Gauss–Newton, assuming white residuals
     n_effective: float = 0.0                 # independent residual samples (AR(1) estimate)
+    gradient: str = "finite-differences"     # how the least-squares Jacobian was computed
+    jacobian: np.ndarray | None = None       # ∂r/∂p at the optimum (parameter units), for the reports
+    uncertainty: Uncertainty | None = None   # intervals, identifiability, fixed-parameter effects (assess=True)
 
     def as_dict(self) -> dict:
         """The /identify group of the HDF5 result."""
@@ -62,44 +72,67 @@ class FitResult:
                 "interrupted": int(self.interrupted), "seconds": self.seconds,
                 "stderr_white": self.stderr if self.stderr_white is None else self.stderr_white,
                 "n_effective": self.n_effective or self.n_residuals,
-                "warnings": np.array(self.warnings or [""], dtype=object)}
+                "warnings": np.array(self.warnings or [""], dtype=object), "gradient": self.gradient,
+                **(self.uncertainty.as_dict() if self.uncertainty is not None else {})}
+
+
+class _Budget(Exception):
+    """The simulation budget (``max_evals``) is spent."""
 
 
 class _Tracker:
-    """Counts evaluations, keeps the best point and the cost history, reports progress."""
+    """Counts simulations, keeps the best point and the cost history, reports progress."""
 
-    def __init__(self, progress=None):
+    def __init__(self, progress=None, max_evals: int | None = None):
         self.best_cost = np.inf
         self.best_z = None
         self.history: list[float] = []
         self.progress = progress
+        self.max_evals = max_evals
+        self.n_sims = 0
+
+    def spend(self, n: int = 1) -> None:
+        """Book n simulations; raise _Budget when the cap would be exceeded."""
+        if self.max_evals is not None and self.n_sims + n > self.max_evals:
+            raise _Budget
+        self.n_sims += n
 
     def see(self, z: np.ndarray, cost: float) -> None:
         if cost < self.best_cost:
             self.best_cost, self.best_z = cost, np.array(z, copy=True)
         self.history.append(self.best_cost)
         if self.progress:
-            self.progress(len(self.history), cost, self.best_cost)
+            self.progress(self.n_sims, cost, self.best_cost)
 
 
 def fit(model: Model, experiments: list[Experiment], free: list[str] | None = None, *,
         method: str = "least-squares", cost: str = "esr", outputs: list[str] | None = None,
         weights: dict[str, float] | None = None, bounds: dict[str, tuple[float, float]] | None = None,
         p_start: np.ndarray | None = None, max_evals: int = 400, opts: SolverOptions | None = None,
-        progress=None, seed: int = 0, workers: int = 1) -> FitResult:
+        progress=None, seed: int = 0, workers: int = 1, gradient: str = "auto", assess: bool = False) -> FitResult:
     """``workers`` > 1 evaluates finite-difference Jacobian columns in that many threads
-    (the compiled solver releases the GIL); the result does not depend on it."""
+    (the compiled solver releases the GIL); the result does not depend on it. ``gradient``:
+    ``auto`` uses sensitivities when the model has an analytic Jacobian. ``assess`` adds
+    bootstrap intervals, the identifiability report and the effect of the fixed parameters
+    (:mod:`.uncertainty`; one more sensitivity simulation)."""
     if method not in METHODS:
         raise IdentifyError(Problem(f"unknown method '{method}'", hint=f"use one of {', '.join(METHODS)}"))
+    if gradient not in GRADIENTS:
+        raise IdentifyError(Problem(f"unknown gradient '{gradient}'", hint=f"use one of {', '.join(GRADIENTS)}"))
     fp = FreeParameters.from_model(model, free, bounds)
     base = model.p0 if p_start is None else np.asarray(p_start, float)
     objective = Objective(model, make_targets(model, experiments, outputs, cost, weights), opts)
-    tracker = _Tracker(progress)
     z0 = fp.to_z(base[fp.index])
+    use_sens = _sensitivities_available(model, gradient)
+    # simulations kept for after the search: residuals and Jacobian at the optimum (+ the fixed parameters')
+    reserve = (1 + 1 + int(assess)) if use_sens else len(z0) + 1
+    tracker = _Tracker(progress, max(max_evals - reserve, 1))
     lock = threading.Lock()
     last: dict = {}
 
     def residuals(z):
+        with lock:
+            tracker.spend()
         r = objective.residuals(fp.full_vector(base, fp.from_z(z)))
         with lock:
             tracker.see(z, float(r @ r))
@@ -113,7 +146,15 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
         return r
 
     def jac(z):
-        J = jacobian(residuals, z, fun(z), workers)
+        if use_sens:
+            with lock:
+                tracker.spend()
+            r, Jp = objective.residuals_jacobian(fp.full_vector(base, fp.from_z(z)), fp.names)
+            with lock:
+                tracker.see(z, float(r @ r))
+            J = Jp * fp.dp_dz(z)[None, :]
+        else:
+            J = jacobian(residuals, z, fun(z), workers)
         last["jz"], last["J"] = np.array(z, copy=True), J
         return J
 
@@ -139,6 +180,8 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
             message = sol.message
     except KeyboardInterrupt:
         interrupted, message = True, "interrupted: kept the best parameters so far"
+    except _Budget:
+        message = f"stopped after {tracker.n_sims} simulations (--max-evals {max_evals}): kept the best parameters"
     z_best = tracker.best_z if tracker.best_z is not None else z0
     if objective.n_evals and objective.n_failed == objective.n_evals:
         raise IdentifyError(Problem(f"every trial simulation failed ({objective.n_failed})",
@@ -151,6 +194,9 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
     # (skipped after Ctrl-C, like the uncertainty itself)
     r_best = last["r"] if "z" in last and np.array_equal(last["z"], z_best) else \
         (None if interrupted else untracked(z_best))
+    if J is None and use_sens and not interrupted:
+        r_best, Jp = objective.residuals_jacobian(p_best, fp.names)
+        J = Jp * fp.dp_dz(z_best)[None, :]
     white, corr = _uncertainty(untracked, z_best, fp, tracker.best_cost, objective.size, interrupted, workers, J,
                                r_best)
     n_eff = effective_samples(r_best) if r_best is not None else float(objective.size)
@@ -160,9 +206,32 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
                     cost=tracker.best_cost,
                     cost_history=tracker.history, p=p_best, n_evals=objective.n_evals, n_failed=objective.n_failed,
                     n_residuals=objective.size, method=method, message=str(message), interrupted=interrupted,
-                    seconds=time.perf_counter() - t0)
+                    seconds=time.perf_counter() - t0,
+                    gradient="sensitivities" if use_sens else "finite-differences",
+                    jacobian=None if J is None else J / fp.dp_dz(z_best)[None, :])
     res.warnings = fit_warnings(res, fp)
+    if assess and J is not None and r_best is not None and not interrupted:
+        fixed_fn = (lambda names: objective.residuals_jacobian(p_best, names)[1]) if use_sens else None
+        res.uncertainty = assess_fit(model, res, fp, z_best, J, r_best, [int(m.sum()) for t in objective.targets
+                                                                          for m in t.masks], fixed_fn, seed)
+    res.n_evals = objective.n_evals
+    if progress:
+        progress(res.n_evals, res.cost, res.cost)       # the bar ends on every simulation the fit ran
     return res
+
+
+def _sensitivities_available(model: Model, gradient: str) -> bool:
+    """Whether the Jacobian comes from sensitivities (compiles the sensitivity library)."""
+    if gradient == "finite-differences":
+        return False
+    from ..solve.sensitivities import sensitivity_library
+    try:
+        return sensitivity_library(model).has_sensitivities
+    except Exception as exc:  # no compiler, or a model too large for the analytic derivatives
+        if gradient == "sensitivities":
+            raise IdentifyError(Problem(f"sensitivities are not available for this model: {exc}",
+                                        hint="use --gradient finite-differences")) from None
+        return False
 
 
 def jacobian(residual_fn, z: np.ndarray, r0: np.ndarray, workers: int = 1, step: float = 1e-3) -> np.ndarray:

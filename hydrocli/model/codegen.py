@@ -41,7 +41,10 @@ class _Names:
         return got if got is not None else self.map[key]
 
 
-def generate_c(eqs: Equations, name: str = "model", analytic_jacobian: bool = True) -> str:
+def generate_c(eqs: Equations, name: str = "model", analytic_jacobian: bool = True,
+               sensitivities: bool = False) -> str:
+    """The model's C translation unit; ``sensitivities`` adds ∂f/∂p, ∂g/∂x and ∂g/∂p
+    (``HY_HAS_SENS``, see :mod:`hydrocli.model.jacobian`) for ``hy_simulate_sens``."""
     nx, npar, nu, ny = len(eqs.states), len(eqs.params), len(eqs.inputs), len(eqs.outputs)
     names = _Names(eqs)
     rows, cols = jacobian_pattern(eqs)
@@ -71,7 +74,11 @@ def generate_c(eqs: Equations, name: str = "model", analytic_jacobian: bool = Tr
     lines += ["    return 0;", "}", ""]
     if analytic_jacobian:
         from .jacobian import jacobian_c
-        lines += jacobian_c(eqs, names, rows, cols, max_chars=MAX_JACOBIAN_CHARS)
+        jac = jacobian_c(eqs, names, rows, cols, max_chars=None if sensitivities else MAX_JACOBIAN_CHARS)
+        lines += jac
+        if sensitivities:
+            from .jacobian import sensitivity_c
+            lines += sensitivity_c(eqs, names)
     return "\n".join(lines)
 
 

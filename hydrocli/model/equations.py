@@ -59,17 +59,19 @@ def order_variables(eqs: Equations, roots: list[E.Expr]) -> list[str]:
 
 
 class StateDeps:
-    """Which states each variable and each derivative depends on (through variables)."""
+    """Which states (or, with ``kind="param"``, which parameters) each variable and each
+    derivative depends on (through variables)."""
 
-    def __init__(self, eqs: Equations):
+    def __init__(self, eqs: Equations, kind: str = "state"):
         self.eqs = eqs
-        self.index = {s: i for i, s in enumerate(eqs.states)}
+        self.kind = kind
+        self.index = {s: i for i, s in enumerate(eqs.states if kind == "state" else eqs.params)}
         self.of_var: dict[str, frozenset[int]] = {}
 
     def of(self, e: E.Expr) -> frozenset[int]:
         out: set[int] = set()
         for k, n in e.symbol_set:
-            if k == "state":
+            if k == self.kind:
                 out.add(self.index[n])
             elif k == "var":
                 if n not in self.of_var:

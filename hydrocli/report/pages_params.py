@@ -1,5 +1,7 @@
 """Parameters (identified from /identify, else nominal from /parameters), the correlation
-heat map of the estimates and the cost history."""
+heat map of the estimates, the cost history, and — when the fit assessed its uncertainty —
+the 95 % bootstrap intervals, what the data do not determine and the fixed parameters the
+estimates depend on."""
 from __future__ import annotations
 
 import numpy as np
@@ -65,6 +67,7 @@ def _identified_pages(out, run: Loaded) -> None:
     units = {n: u for n, _, u in run.res.parameters}
     cols = {k: np.atleast_1d(np.asarray(d.get(k, [np.nan] * len(names)), float))
             for k in ("initial", "estimates", "lower", "upper", "stderr")}
+    ci = [np.atleast_1d(np.asarray(d[k], float)) for k in ("ci_lower", "ci_upper")] if "ci_lower" in d else None
     rows, colours = [], {}
     for i, n in enumerate(names):
         est, lo, hi, se = cols["estimates"][i], cols["lower"][i], cols["upper"][i], cols["stderr"][i]
@@ -74,7 +77,10 @@ def _identified_pages(out, run: Loaded) -> None:
             colours[i] = AT_BOUND
         elif np.isfinite(rel) and rel > 50 or not np.isfinite(se):
             colours[i] = POORLY_DETERMINED
-        rows.append([n, units.get(n, "-") or "-", g(cols["initial"][i]), g(est), g(lo), g(hi), g(se), g(rel)])
+        row = [n, units.get(n, "-") or "-", g(cols["initial"][i]), g(est), g(lo), g(hi), g(se), g(rel)]
+        if ci is not None:
+            row.append(f"{g(ci[0][i])} … {g(ci[1][i])}")
+        rows.append(row)
     warnings = [w for w in np.atleast_1d(d.get("warnings", [])) if str(w).strip()]
     note = ("orange: estimate at a bound; red: standard error > 50 % of the estimate or undetermined.\n"
             "Standard errors from the Gauss–Newton covariance at the optimum"
@@ -86,10 +92,49 @@ def _identified_pages(out, run: Loaded) -> None:
                 f"{int(float(d.get('n_evals', 0) or 0))} evaluations, {g(d.get('seconds'))} s"
                 + (" (interrupted)" if int(float(d.get("interrupted", 0) or 0)) else "")
                 + (f" — {d.get('message')}" if d.get("message") else ""))
-    _pages(out, f"Identified parameters of {run.res.machine}", subtitle,
-           ["Parameter", "Unit (SI)", "Initial", "Identified", "Lower", "Upper", "Std. error", "Std. error %"],
-           rows, [0.22, 0.12, 0.11, 0.11, 0.11, 0.11, 0.11, 0.11], colours, note)
+    header = ["Parameter", "Unit (SI)", "Initial", "Identified", "Lower", "Upper", "Std. error", "Std. error %"]
+    widths = [0.22, 0.12, 0.11, 0.11, 0.11, 0.11, 0.11, 0.11]
+    if ci is not None:
+        header.append("95 % interval")
+        widths = [0.19, 0.08, 0.09, 0.09, 0.08, 0.08, 0.09, 0.08, 0.22]
+        note += f"\n95 % interval: {d.get('ci_method', 'bootstrap')} (allows for coloured residuals)."
+    _pages(out, f"Identified parameters of {run.res.machine}", subtitle, header, rows, widths, colours, note)
     _correlation_cost_page(out, run, names)
+    if "identifiability" in d or "fixed_messages" in d:
+        _assessment_page(out, run)
+
+
+def _lines(d: dict, key: str) -> list[str]:
+    return [str(m) for m in np.atleast_1d(d.get(key, [])) if str(m).strip()]
+
+
+def _assessment_page(out, run: Loaded) -> None:
+    """What the data do not determine, and the fixed parameters the estimates depend on."""
+    import textwrap
+    d = run.res.identify
+    fig = style.page(f"Identification of {run.res.machine}: what the estimates rest on",
+                     "from the sensitivities at the optimum: singular directions of the scaled Jacobian, "
+                     "and dθ/dφ = −(JᵀJ)⁻¹JᵀJφ for the fixed parameters φ")
+    fixed = _lines(d, "fixed_messages")
+    n_fixed = len(_lines(d, "fixed_names"))
+    blocks = [("Not determined by the data", _lines(d, "identifiability")
+               or ["every free parameter is determined (relative uncertainty of every direction ≤ 10 %)"]),
+              ("Fixed parameters the estimates are sensitive to", fixed
+               or [f"a 10 % error in any of the {n_fixed} fixed parameters moves no estimate by more than "
+                   f"two standard errors" if n_fixed else "not assessed (no sensitivities)"])]
+    y = 0.86
+    for title, items in blocks:
+        fig.text(0.05, y, title, fontsize=11, weight="bold")
+        y -= 0.035
+        for m in items[:12]:
+            for k, line in enumerate(textwrap.wrap(m, 120)):
+                fig.text(0.06 if k == 0 else 0.08, y, ("• " if k == 0 else "") + line, fontsize=8.5)
+                y -= 0.025
+            y -= 0.008
+            if y < 0.08:
+                break
+        y -= 0.03
+    out.add(fig)
 
 
 def _correlation_cost_page(out, run: Loaded, names: list[str]) -> None:

@@ -12,6 +12,7 @@ Without them the FMU sees zero-order-held inputs and differs from ``hydro simula
 hold, not by the model (about 12 % of the EHA pressure range at a 1 ms recording).
 """
 from __future__ import annotations
+from hydrocli.experiments.initial import initial_state
 
 from ctypes import c_double
 from pathlib import Path
@@ -74,7 +75,7 @@ def run_fmu(fmu: Path, model, exp, start_values=None, kind="cs"):
     sig["time"] = t_in
     for j, n in enumerate(model.input_names):
         sig[n] = U[:, j]
-    starts = {s: float(v) for s, v in zip(model.state_names, exp.x0(model))}
+    starts = {s: float(v) for s, v in zip(model.state_names, initial_state(model, exp))}
     starts.update(start_values or {})
     kw = dict(set_input_derivatives=True) if kind == "cs" else dict(solver="CVode")
     return fmpy.simulate_fmu(str(fmu), start_time=float(exp.t_out[0]), stop_time=float(exp.t_out[-1]),

@@ -245,6 +245,11 @@ static int hy_first_nonfinite(const double *v, int n)
 
 #include "hy_linalg.h"
 
+struct hy_sens;              /* forward sensitivities (hy_sens.h, only with HY_HAS_SENS) */
+#ifdef HY_HAS_SENS
+#include "hy_sens.h"
+#endif
+
 /* --------------------------------------------------------------- Jacobian */
 
 static int hy_setup_pattern(hy_ws *w)
@@ -370,7 +375,7 @@ int hy_model_info(int *out)
     return 0;
 }
 
-int hy_simulate(
+static int hy_integrate(
     const double *p,
     int n_tin, const double *t_in,
     const double *U,
@@ -381,7 +386,8 @@ int hy_simulate(
     double h0, double hmax, long max_steps,
     double *X_out,
     double *Y_out,
-    double *stats)
+    double *stats,
+    struct hy_sens *sn)
 {
     const int n = HY_NX;
     hy_ws W;
@@ -454,6 +460,11 @@ int hy_simulate(
         if (st) { ret = 100 + st; goto finish; }
         ++iout;
     }
+#ifdef HY_HAS_SENS
+    if (sn && (st = hy_sens_begin(sn, &W, t_out, iout, x))) { ret = 100 + st; goto finish; }
+#else
+    (void)sn;
+#endif
     if (iout >= n_out) goto finish;
 
     /* ---- initial step (Hairer-Norsett-Wanner heuristic) ---- */
@@ -614,6 +625,9 @@ int hy_simulate(
                 }
                 if (ret) break;
             }
+#ifdef HY_HAS_SENS
+            if (sn && (st = hy_sens_step(sn, &W, t, tnext, hstep, x, xn, K, kcap, t_out, n_out))) { ret = 100 + st; break; }
+#endif
             /* step size controller (Gustafsson, as in RODAS) */
             fac = pow(err, 1.0 / R_Q) / HY_SAFE;
             if (fac > 5.0) fac = 5.0;
@@ -680,4 +694,21 @@ finish:
     free(W.perm); free(W.frp); free(W.fci); free(W.fdiag); free(W.jpos);
     free(W.fv); free(W.finv); free(W.fw); free(W.fw2);
     return ret;
+}
+
+int hy_simulate(
+    const double *p,
+    int n_tin, const double *t_in,
+    const double *U,
+    const int *u_hold,
+    double t0, const double *x0,
+    int n_out, const double *t_out,
+    double rtol, const double *atol,
+    double h0, double hmax, long max_steps,
+    double *X_out,
+    double *Y_out,
+    double *stats)
+{
+    return hy_integrate(p, n_tin, t_in, U, u_hold, t0, x0, n_out, t_out, rtol, atol, h0, hmax, max_steps,
+                        X_out, Y_out, stats, NULL);
 }

@@ -1,0 +1,220 @@
+"""Uncertainty a user can check: intervals, identifiability, and the estimates' sensitivity to
+the parameters the machine file keeps fixed — all from the residual Jacobian J = ∂r/∂θ that
+the forward sensitivities give at the optimum.
+
+* **Block-bootstrap intervals** (linearised, moving blocks): residual blocks of length L are
+  resampled within each recorded signal, e*, and mapped to the estimate by the Gauss–Newton
+  step δθ* = (JᵀJ)⁻¹Jᵀe*; the 2.5 / 97.5 % percentiles of θ̂ + δθ* (taken in the optimiser's
+  coordinates, so a log-scaled parameter stays positive) are the 95 % interval. Coloured
+  residuals widen the interval through the blocks, not through a model of the noise
+  (Künsch 1989, the moving-block bootstrap; Efron & Tibshirani 1993, §9.4, residual
+  bootstrap of a regression).
+* **Identifiability**: singular values of the scaled Jacobian J·diag(|θ|) (the bounds' width
+  for an estimate near zero); a direction v with σ/s_v > 10 % (its relative standard error,
+  σ² allowing for correlated residuals) or s_v/s_max < 1e-4 is a combination the data do
+  not determine; pairs with |correlation| > 0.95 are named too.
+* **Fixed parameters**: ∂θ̂/∂φ = −(JᵀJ)⁻¹JᵀJ_φ (implicit function theorem at the optimum,
+  J_φ = ∂r/∂φ), reported as what a 10 % error in φ does to each estimate, and flagged when
+  that shift exceeds two standard errors and 1 % of the estimate.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .transforms import FreeParameters
+
+N_BOOT = 400
+LEVEL = 0.95
+SHIFT = 0.10           # "a 10 % error in φ"
+CORR_LIMIT = 0.95
+
+
+@dataclass
+class FixedEffect:
+    """What a 10 % error in one fixed parameter does to the estimates."""
+
+    name: str
+    value: float
+    shift: np.ndarray          # relative change of each estimate for +10 % in the fixed parameter
+    worst: str                 # the estimate it moves most (relative to its standard error)
+    worst_shift: float         # that estimate's relative change
+    sigmas: float              # that change in standard errors
+    moved: list[tuple[str, float]] = field(default_factory=list)   # up to three (estimate, relative change)
+
+    def message(self) -> str:
+        what = ", ".join(f"{n} by {100 * r:+.1f} %" for n, r in (self.moved or [(self.worst, self.worst_shift)]))
+        return (f"a 10 % error in {self.name} moves {what} ({self.sigmas:.0f} standard errors): "
+                f"consider freeing {self.name} (--add-free {self.name})")
+
+
+@dataclass
+class Uncertainty:
+    ci_lower: np.ndarray
+    ci_upper: np.ndarray
+    ci_method: str
+    singular_values: np.ndarray
+    identifiability: list[str] = field(default_factory=list)
+    fixed_names: list[str] = field(default_factory=list)
+    dtheta_dphi: np.ndarray | None = None      # k × m
+    fixed_effects: list[FixedEffect] = field(default_factory=list)   # flagged ones, worst first
+
+    def as_dict(self) -> dict:
+        """Entries added to the /identify group of the HDF5 result."""
+        k = self.ci_lower.size
+        fx = [e.name for e in self.fixed_effects]
+        return {"ci_lower": self.ci_lower, "ci_upper": self.ci_upper, "ci_level": LEVEL, "ci_method": self.ci_method,
+                "singular_values": self.singular_values,
+                "identifiability": np.array(self.identifiability or [""], dtype=object),
+                "fixed_names": np.array(self.fixed_names or [""], dtype=object),
+                "dtheta_dphi": self.dtheta_dphi if self.dtheta_dphi is not None else np.zeros((k, 0)),
+                "fixed_sensitive": np.array(fx or [""], dtype=object),
+                "fixed_messages": np.array([e.message() for e in self.fixed_effects] or [""], dtype=object)}
+
+
+def block_length(n: int, n_eff: float) -> int:
+    """Blocks about three correlation lengths long (n/n_eff samples per independent one), at
+    least n^(1/3), at most a quarter of the signal."""
+    corr_len = n / max(n_eff, 1.0)
+    return int(max(1, min(max(np.ceil(n ** (1 / 3)), np.ceil(3 * corr_len)), n // 4)))
+
+
+def bootstrap_intervals(J_z: np.ndarray, r: np.ndarray, segments: list[int], z: np.ndarray, fp: FreeParameters,
+                        n_eff: float, n_boot: int = N_BOOT, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """95 % moving-block bootstrap intervals (parameter units) from the Jacobian in the
+    optimiser's coordinates ``J_z``, the residuals ``r`` and the lengths of the recorded
+    signals they are stacked from."""
+    rng = np.random.default_rng(seed)
+    pinv = np.linalg.pinv(J_z)                                   # k × N
+    starts, n_total = [], 0
+    for n in segments:
+        starts.append(n_total)
+        n_total += n
+    L = block_length(n_total, n_eff)
+    draws = np.empty((n_boot, z.size))
+    for b in range(n_boot):
+        e = np.empty(r.size)
+        for s0, n in zip(starts, segments):
+            if n == 0:
+                continue
+            Lb = min(L, n)
+            nb = int(np.ceil(n / Lb))
+            idx = (rng.integers(0, n - Lb + 1, nb)[:, None] + np.arange(Lb)[None, :]).ravel()[:n]
+            seg = r[s0:s0 + n]
+            e[s0:s0 + n] = seg[idx] - seg.mean()
+        draws[b] = z - pinv @ e
+    lo_z, hi_z = np.percentile(draws, [50 * (1 - LEVEL), 50 * (1 + LEVEL)], axis=0)
+    return _unclipped(fp, lo_z), _unclipped(fp, hi_z)
+
+
+def _unclipped(fp: FreeParameters, z: np.ndarray) -> np.ndarray:
+    """p(z) without clipping to the bounds (an interval may extend past them)."""
+    lin = fp.lo + z * (fp.hi - fp.lo)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        lg = fp.lo * (fp.hi / np.where(fp.log, fp.lo, 1.0)) ** z
+    return np.where(fp.log, lg, lin)
+
+
+def scales(estimates: np.ndarray, fp: FreeParameters) -> np.ndarray:
+    """What "relative" means for each estimate: its magnitude, or the width of its bounds
+    when it sits near zero (a leakage identified as none)."""
+    span = fp.hi - fp.lo
+    return np.where(np.abs(estimates) > 1e-3 * span, np.abs(estimates), span)
+
+
+def identifiability(J_p: np.ndarray, scale: np.ndarray, names: list[str], sigma2: float,
+                    correlation: np.ndarray) -> tuple[np.ndarray, list[str]]:
+    """Singular values of the scaled Jacobian J·diag(scale) and messages naming what the data
+    do not determine."""
+    Js = J_p * scale[None, :]
+    if Js.size == 0:
+        return np.zeros(0), []
+    _, s, Vt = np.linalg.svd(Js, full_matrices=False)
+    msgs, seen = [], set()
+    smax = s[0] if s.size and s[0] > 0 else 1.0
+    for sv, v in zip(s, Vt):
+        rel_se = np.sqrt(sigma2) / sv if sv > 0 else np.inf
+        if rel_se <= 0.10 and sv / smax >= 1e-4:
+            continue
+        order = np.argsort(-np.abs(v))
+        parts = [f"{v[i]:+.2f}·{names[i]}" for i in order[:3] if abs(v[i]) >= 0.2]
+        who = [names[i] for i in order[:3] if abs(v[i]) >= 0.2]
+        if frozenset(who) in seen:
+            continue
+        seen.add(frozenset(who))
+        what = f"±{100 * rel_se:.0f} %" if np.isfinite(rel_se) else "unbounded"
+        if len(who) == 1:
+            fix = (f"fix {who[0]} at a datasheet value, or record an experiment whose outputs react to it")
+        else:
+            fix = (f"fix one of {', '.join(who)}, or record an experiment that excites them differently "
+                   f"(another command amplitude, frequency or load)")
+        msgs.append(f"not determined by the data: the combination {' '.join(parts)} (relative changes; "
+                    f"uncertainty {what}): {fix}")
+    k = len(names)
+    for i in range(k):
+        for j in range(i + 1, k):
+            c = correlation[i, j]
+            if np.isfinite(c) and abs(c) > CORR_LIMIT:
+                msgs.append(f"{names[i]} and {names[j]} are strongly correlated ({c:+.2f}): the data fix a combination "
+                            f"of them; fix one, or add an experiment that moves them apart")
+    return s, msgs
+
+
+def fixed_parameter_effects(J_p: np.ndarray, J_phi: np.ndarray, scale: np.ndarray, stderr: np.ndarray,
+                            names: list[str], fixed: list[str], values: np.ndarray,
+                            skip: set[str] = frozenset()) -> tuple[np.ndarray, list[FixedEffect]]:
+    """∂θ̂/∂φ = −(JᵀJ)⁻¹JᵀJ_φ and the fixed parameters whose 10 % error moves an estimate
+    (not one in ``skip``, e.g. at a bound) by more than two standard errors and 1 % of its
+    ``scale`` (largest relative shift first)."""
+    if J_phi.size == 0:
+        return np.zeros((len(names), 0)), []
+    D = -np.linalg.lstsq(J_p, J_phi, rcond=None)[0]               # k × m
+    flagged = []
+    for j, (phi, v) in enumerate(zip(fixed, values)):
+        dtheta = D[:, j] * SHIFT * v
+        rel = dtheta / scale
+        with np.errstate(divide="ignore", invalid="ignore"):
+            sig = np.where(stderr > 0, np.abs(dtheta) / stderr, np.inf)
+        ok = np.isfinite(sig) & (sig > 2.0) & np.array([n not in skip for n in names])
+        if not ok.any():
+            continue
+        i = int(np.argmax(np.where(ok, np.abs(rel), -1.0)))
+        if abs(rel[i]) > 0.01:
+            top = [q for q in np.argsort(-np.abs(np.where(ok, rel, 0.0)))[:3] if ok[q] and abs(rel[q]) > 0.01]
+            flagged.append(FixedEffect(phi, float(v), rel, names[i], float(rel[i]), float(sig[i]),
+                                       [(names[q], float(rel[q])) for q in top]))
+    flagged.sort(key=lambda e: -abs(e.worst_shift))
+    return D, flagged
+
+
+def fixed_candidates(model, free: list[str]) -> list[str]:
+    """Parameters the file keeps fixed that could move the fit: non-zero and not free."""
+    return [p.name for p in model.params if not p.free and p.name not in free and p.value != 0.0
+            and np.isfinite(p.value)]
+
+
+def assess_fit(model, res, fp: FreeParameters, z: np.ndarray, J_z: np.ndarray, r: np.ndarray, segments: list[int],
+               fixed_jacobian=None, seed: int = 0) -> Uncertainty:
+    """All of the above for a finished fit; ``fixed_jacobian(names) -> ∂r/∂φ`` (None: skip
+    the fixed parameters, e.g. without sensitivities)."""
+    d = fp.dp_dz(z)
+    J_p = J_z / d[None, :]
+    lo, hi = bootstrap_intervals(J_z, r, segments, z, fp, res.n_effective or r.size, seed=seed)
+    lo, hi = np.clip(lo, fp.lo, fp.hi), np.clip(hi, fp.lo, fp.hi)      # the search box holds the parameter
+    sigma2 = res.cost / max(res.n_residuals - len(res.names), 1) * r.size / max(res.n_effective or r.size, 1.0)
+    scale = scales(res.estimates, fp)
+    s, msgs = identifiability(J_p, scale, res.names, sigma2, res.correlation)
+    out = Uncertainty(lo, hi, "moving-block bootstrap (linearised)", s, msgs)
+    if fixed_jacobian is not None:
+        fixed = fixed_candidates(model, res.names)
+        if fixed:
+            J_phi = fixed_jacobian(fixed)
+            keep = np.any(J_phi != 0.0, axis=0)
+            fixed = [n for n, k in zip(fixed, keep) if k]
+            values = np.array([model.p0[model.param_index(n)] if res.p is None else res.p[model.param_index(n)]
+                               for n in fixed])
+            D, flagged = fixed_parameter_effects(J_p, J_phi[:, keep], scale, res.stderr, res.names, fixed,
+                                                 values, set(fp.at_bound(res.estimates)))
+            out.fixed_names, out.dtheta_dphi, out.fixed_effects = fixed, D, flagged
+    return out

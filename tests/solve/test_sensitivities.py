@@ -1,0 +1,127 @@
+"""Forward sensitivities from the compiled integrator (solve.sensitivities, csrc/hy_sens.h)
+against closed forms (first-order lag; turbulent orifice filling a volume) and against
+central finite differences of the EHA's outputs."""
+from hydrocli.experiments.initial import initial_state
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hydrocli.runner import load_machine
+from hydrocli.solve.sensitivities import output_sensitivities
+from hydrocli.solve.simulate import InputTable, SolverOptions, simulate
+
+ROOT = Path(__file__).resolve().parents[2]
+
+LAG = """
+name: lag
+inputs: {u: {unit: "1"}}
+components:
+  lag:
+    type: first_order_lag
+    ports: {in: u, out: y}
+    tau: {value: 0.2, free: true, bounds: [0.01, 1]}
+    k: {value: 2.0, free: true, bounds: [0.1, 10]}
+outputs: {y: lag.y}
+"""
+
+FILL = """
+name: fill
+inputs: {Ps: {unit: Pa}}
+components:
+  supply: {type: pressure_source, ports: {P: line, ref: Ps}}
+  orifice: {type: orifice, ports: {A: line, B: tank_node}, Kv: 2.0e-11, dp_lam: "0.01 bar"}
+  vol: {type: volume, ports: {P: tank_node}, V: "0.1 L", beta: "1.5 GPa"}
+outputs: {p: tank_node.p}
+initial: {tank_node.p: "10 bar"}
+"""
+
+
+@pytest.fixture(autouse=True)
+def _cache(tmp_path_factory, monkeypatch):
+    monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "hydro_cache"))
+
+
+def _machine(tmp_path, text, name):
+    f = tmp_path / f"{name}.yaml"
+    f.write_text(text)
+    return load_machine(f)[1]
+
+
+def test_first_order_lag_matches_the_closed_form(tmp_path):
+    """y' = (k·u − y)/τ, u = 1, y(0) = y0: y = k + (y0 − k)e^(−t/τ);
+    ∂y/∂τ = −(k − y0)·(t/τ²)·e^(−t/τ), ∂y/∂k = 1 − e^(−t/τ), ∂y/∂y0 = e^(−t/τ)."""
+    m = _machine(tmp_path, LAG, "lag")
+    tau, k, y0 = 0.2, 2.0, 0.5
+    x0 = np.array([y0])
+    t = np.linspace(0.0, 1.0, 51)
+    st = output_sensitivities(m, InputTable(np.array([0.0]), np.array([[1.0]])), t, x0=x0,
+                              wrt=["lag.tau", "lag.k", "x0:lag.y"], opts=SolverOptions(rtol=1e-9, atol_factor=1.0))
+    e = np.exp(-t / tau)
+    assert st.Y[:, 0] == pytest.approx(k + (y0 - k) * e, abs=1e-7)
+    assert st.dY[:, 0, 0] == pytest.approx(-(k - y0) * t / tau ** 2 * e, abs=1e-6)
+    assert st.dY[:, 0, 1] == pytest.approx(1.0 - e, abs=1e-7)
+    assert st.dY[:, 0, 2] == pytest.approx(e, abs=1e-7)
+
+
+def test_orifice_filling_a_volume_matches_the_closed_form(tmp_path):
+    """(V/β)·dp/dt = Kv·sqrt(Ps − p) ⇒ sqrt(Ps − p) = s0 − a·t with a = Kv·β/(2V):
+    ∂p/∂Kv = 2(s0 − a t)·t·β/(2V), ∂p/∂V = −2(s0 − a t)·a·t/V, ∂p/∂p0 = (s0 − a t)/s0."""
+    m = _machine(tmp_path, FILL, "fill")
+    Kv, V, beta, Ps, p0 = 2.0e-11, 1e-4, 1.5e9, 100e5, 10e5
+    t = np.linspace(0.0, 10.0, 101)
+    st = output_sensitivities(m, InputTable(np.array([0.0]), np.array([[Ps]])), t,
+                              wrt=["orifice.Kv", "vol.V", "x0:tank_node.p"],
+                              opts=SolverOptions(rtol=1e-10, atol_factor=1.0))
+    s0, a = np.sqrt(Ps - p0), Kv * beta / (2 * V)
+    s = s0 - a * t
+    assert st.Y[:, 0] == pytest.approx(Ps - s ** 2, rel=1e-6)
+    assert st.dY[:, 0, 0] == pytest.approx(s * t * beta / V, rel=1e-5, abs=1e-6 * Ps / Kv)
+    assert st.dY[:, 0, 1] == pytest.approx(-2 * s * a * t / V, rel=1e-5, abs=1e-6 * Ps / V)
+    assert st.dY[:, 0, 2] == pytest.approx(s / s0, rel=1e-5, abs=1e-7)
+
+
+@pytest.fixture(scope="module")
+def eha_case():
+    from hydrocli.experiments.experiment_file import load_experiment
+    _, model = load_machine(ROOT / "machines" / "eha_testbench.yaml")
+    exp = load_experiment(ROOT / "experiments" / "eha" / "none_train.yaml", model)
+    n = 1500                                   # 1.5 s: two command steps and a reversal
+    return model, exp.inputs, exp.t_out[:n], initial_state(model, exp)
+
+
+@pytest.mark.parametrize("name", ["load.m", "cylinder.beta", "valve.Kv", "friction.kv_p", "valve.tau",
+                                  "x0:piston.x"])
+def test_eha_output_sensitivities_match_central_differences(eha_case, name):
+    model, inputs, t, x0 = eha_case
+    opts = SolverOptions(rtol=1e-10)     # differences of two solutions need both far below the step's effect
+    st = output_sensitivities(model, inputs, t, x0=x0, wrt=[name], opts=opts)
+    p = model.p0
+    if name.startswith("x0:"):
+        j = model.state_index(name[3:])
+        h = 1e-2 * abs(x0[j])
+        up, dn = x0.copy(), x0.copy()
+        up[j] += h
+        dn[j] -= h
+        fd = (simulate(model, inputs, t, x0=up, opts=opts).Y - simulate(model, inputs, t, x0=dn, opts=opts).Y) / (2 * h)
+    else:
+        k = model.param_index(name)
+        h = 1e-3 * abs(p[k])
+        up, dn = p.copy(), p.copy()
+        up[k] += h
+        dn[k] -= h
+        fd = (simulate(model, inputs, t, p=up, x0=x0, opts=opts).Y
+              - simulate(model, inputs, t, p=dn, x0=x0, opts=opts).Y) / (2 * h)
+    for o in ("P1", "P2", "v"):
+        c = model.output_names.index(o)
+        scale = np.max(np.abs(fd[:, c]))
+        err = np.max(np.abs(st.dY[:, c, 0] - fd[:, c]))
+        assert err <= 0.02 * scale, f"{name} → {o}: max error {err:.3g} vs max |dy| {scale:.3g}"
+
+
+def test_sensitivity_run_gives_the_plain_trajectory(eha_case):
+    """The sensitivity pass does not change the state integration."""
+    model, inputs, t, x0 = eha_case
+    st = output_sensitivities(model, inputs, t, x0=x0, wrt=["load.m"])
+    plain = simulate(model, inputs, t, x0=x0)
+    assert np.array_equal(st.Y, plain.Y)
