@@ -561,7 +561,13 @@ int hy_simulate(
             if (k + 1 < n_tin && t_in[k + 1] < target) target = t_in[k + 1];
         }
         if (W.nbrk) {  /* next kink of an input after t */
-            while (W.ibrk < W.nbrk && !(t_in[abs(W.brk[W.ibrk])] > t)) W.ibrk++;
+            /* a kink less than 1e-4 sample intervals ahead counts as passed (a step that
+               ended just short of it by rounding must not be followed by a step of 1e-15) */
+            while (W.ibrk < W.nbrk) {
+                const int kb = abs(W.brk[W.ibrk]);
+                if (t_in[kb] - t > 1e-4 * (t_in[kb + 1] - t_in[kb - 1])) break;
+                W.ibrk++;
+            }
             if (W.ibrk < W.nbrk) {
                 const int kb = abs(W.brk[W.ibrk]);
                 const double dts = t_in[kb + 1] - t_in[kb - 1];
