@@ -2,7 +2,7 @@
 
 Baseline (run in the same process): seed 004's EHA written by hand as a Python
 right-hand side and integrated with ``scipy.integrate.solve_ivp(method="BDF")`` (and
-``LSODA``). Contender: the same machine from ``machines/eha_testbench.yaml`` through the
+``LSODA``). Contender: the same machine (machines/eha_testbench.yaml, built in code) through the
 builder, generated C and the compiled Rosenbrock integrator. Both are compared with a
 tight-tolerance reference (the hand-written model under Radau, rtol 1e-10) so ratios are
 quoted at equal or better accuracy. Also: cost per simulated second for 1, 10 and 50
