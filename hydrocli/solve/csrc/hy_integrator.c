@@ -260,9 +260,10 @@ static int hy_first_nonfinite(const double *v, int n)
    would resolve the table nearly sample by sample anyway, and its error estimate
    under-reports a crossed kink: the solution and the embedded solution sample the input
    at the same stage times, so both miss the kink alike (measured on the EHA at rtol 1e-6:
-   crossing every kink gives 40x, crossing only from 2 ms on 20x the error of landing).  Longer steps cross small kinks: over many
-   samples a smooth signal's table is smooth to the method.  No restart: the step size and the
-   controller history are kept (a clipped step never shrinks the next one).
+   crossing every kink gives 40x, crossing only from 2 ms on 20x the error of landing).
+   Longer steps cross small kinks: over many samples a smooth signal's table is smooth
+   to the method.  No restart: the step size and the controller history are kept (a
+   clipped step never shrinks the next one).
    Returns 0, or -1 when out of memory. */
 #ifndef HY_KINK_TOL
 #define HY_KINK_TOL 1e-6
