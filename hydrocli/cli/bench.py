@@ -15,6 +15,12 @@ def register(app: typer.Typer) -> None:
         from .main import run_guarded
         from .. import bench
 
+        if only not in ("all", "eha", "wp", "scaling", "build"):
+            raise typer.BadParameter(f"unknown part {only!r}; use all, eha, wp, scaling or build",
+                                     param_hint="--only")
+        if plot and not plot.lower().endswith((".png", ".pdf", ".svg")):
+            raise typer.BadParameter(f"{plot!r}: the figure must end in .png, .pdf or .svg", param_hint="--plot")
+
         def run():
             if only == "eha":
                 bench.bench_eha(repeat=3 if quick else 7, echo=typer.echo)

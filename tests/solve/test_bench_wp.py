@@ -47,3 +47,15 @@ def test_work_precision_table_and_plot(tmp_path):
     assert len(lines) == 2 + len(pts) and "scipy BDF" in lines[-1]
     out = B.plot_wp({"EHA": pts, "10 circuits": pts}, tmp_path / "wp.png")
     assert out.stat().st_size > 10_000 and out.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_bench_cli_rejects_bad_options():
+    from typer.testing import CliRunner
+
+    from hydrocli.cli.main import app
+
+    runner = CliRunner()
+    res = runner.invoke(app, ["bench", "--only", "nope"])
+    assert res.exit_code == 2 and "--only" in res.output
+    res = runner.invoke(app, ["bench", "--only", "wp", "--plot", "figure.txt"])
+    assert res.exit_code == 2 and ".png" in res.output
