@@ -357,7 +357,9 @@ class CompiledModel:
             hold = np.asarray(u_hold)
             if hold.ndim == 0:
                 hold = np.full(nu, hold)
-            hold = np.ascontiguousarray(hold.reshape(-1) != 0, dtype=np.intc)
+            hold = hold.reshape(-1)
+            # 0 linear, 1 zero-order hold, 2 linear with steps ending on its kinks
+            hold = np.ascontiguousarray(np.where(hold == 2, 2, hold != 0), dtype=np.intc)
             if hold.shape[0] != nu:
                 raise ValueError(f"u_hold must have {nu} elements, got {hold.shape[0]}")
         else:

@@ -17,11 +17,23 @@ from .library import compiled
 
 @dataclass
 class SolverOptions:
+    """Integrator settings.
+
+    ``error_control="nominal"`` (default, unchanged for identify/diagnose): per-state
+    absolute tolerance ``atol_i = atol_factor · rtol · nominal_i`` with the components'
+    small nominal magnitudes (1 bar, 1 cm/s, 1 mm); fast, but the achieved error is
+    10²–10⁴ × rtol × signal scale on the EHA.  ``"scaled"``: ``atol_i = rtol · scale_i``
+    with the state's signal scale (:func:`state_scales`: 100 bar, 0.1 m/s, 0.1 m …) and
+    steps that end on the kinks of the linearly interpolated inputs, so the achieved error
+    is a small multiple of rtol × signal scale (docs/solver.md has the measurements).
+    """
+
     rtol: float = 1e-6
-    atol_factor: float = 1e3     # atol_i = atol_factor · rtol · nominal magnitude of state i
+    atol_factor: float = 1e3     # "nominal": atol_i = atol_factor · rtol · nominal magnitude of state i
     max_step: float = np.inf
     max_steps: int = 20_000_000
     backend: str = "auto"        # auto | compiled | python
+    error_control: str = "nominal"   # nominal | scaled
 
 
 @dataclass
@@ -46,7 +58,30 @@ class InputTable:
         return InputTable(np.array([t0]), np.array([row], dtype=float).reshape(1, len(row)))
 
 
+#: signal scale of a state by its SI unit: the magnitude a hydraulic machine's signal of
+#: that kind typically spans (pressures up to ~100 bar, strokes and speeds ~0.1 m, m/s).
+UNIT_SCALE = {"Pa": 1e7, "m": 0.1, "m/s": 0.1, "m/s^2": 10.0, "rad": 1.0, "rad/s": 1.0,
+              "m^3/s": 1e-4, "m^3": 1e-3, "N": 1e3, "N*m": 1e2, "A": 0.1, "V": 10.0}
+
+
+def state_scales(model: Model) -> np.ndarray:
+    """Signal scale of each state: ``max(UNIT_SCALE[unit] or 100·nominal, nominal, |x0|)``.
+
+    Used as the absolute-tolerance scale of ``error_control="scaled"``, so that
+    ``atol_i = rtol · scale_i`` asks for the same relative accuracy of every signal.
+    """
+    out = []
+    for s in model.states:
+        base = UNIT_SCALE.get(s.unit.replace(" ", ""), 100.0 * abs(s.nominal))
+        out.append(max(base, abs(s.nominal), abs(s.initial)))
+    return np.array(out, dtype=float)
+
+
 def atol_vector(model: Model, opts: SolverOptions) -> np.ndarray:
+    if opts.error_control == "scaled":
+        return state_scales(model) * opts.rtol
+    if opts.error_control != "nominal":
+        raise ValueError(f"error_control must be 'nominal' or 'scaled', got {opts.error_control!r}")
     return np.array([s.nominal for s in model.states], dtype=float) * opts.atol_factor * opts.rtol
 
 
@@ -71,12 +106,15 @@ def simulate(model: Model, inputs: InputTable, t_out: np.ndarray, p: np.ndarray 
     return _run_python(model, inputs, t_out, p, x0, opts)
 
 
-def _hold_flags(model: Model) -> np.ndarray:
-    return np.array([1 if model.input_hold.get(n) == "zoh" else 0 for n in model.input_names], dtype=np.int32)
+def _hold_flags(model: Model, opts: SolverOptions | None = None) -> np.ndarray:
+    """Per input: 1 zero-order hold; linear inputs 0, or 2 (steps end on their kinks) under
+    ``error_control="scaled"``."""
+    lin = 2 if opts is not None and opts.error_control == "scaled" else 0
+    return np.array([1 if model.input_hold.get(n) == "zoh" else lin for n in model.input_names], dtype=np.int32)
 
 
 def _run_compiled(model, lib, inputs, t_out, p, x0, opts) -> Trajectory:
-    res = lib.simulate(p, inputs.t, inputs.U, _hold_flags(model), float(t_out[0]), x0, t_out,
+    res = lib.simulate(p, inputs.t, inputs.U, _hold_flags(model, opts), float(t_out[0]), x0, t_out,
                        rtol=opts.rtol, atol=atol_vector(model, opts), hmax=opts.max_step,
                        max_steps=opts.max_steps)
     if res.status != 0:

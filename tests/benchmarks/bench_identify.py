@@ -28,6 +28,7 @@ from hydrocli.experiments.experiment_file import load_experiment  # noqa: E402
 from hydrocli.identify.fit import fit  # noqa: E402
 from hydrocli.metrics import esr  # noqa: E402
 from hydrocli.runner import load_machine, simulate_experiment  # noqa: E402
+from hydrocli.solve.library import compiled  # noqa: E402
 from hydrocli.solve.sensitivities import sensitivity_library  # noqa: E402
 from hydrocli.solve.simulate import SolverOptions  # noqa: E402
 
@@ -53,7 +54,7 @@ def main() -> None:
     _, model = load_machine(ROOT / "machines" / "eha_testbench.yaml")
     train = load_experiment(ROOT / a.experiment, model)
     val = load_experiment(ROOT / a.validate, model)
-    model.compiled()
+    compiled(model)
     sensitivity_library(model)          # compile both libraries before timing
     print(f"identify {len(model.free_params)} parameters on {a.experiment} (30 s at 1 kHz), rtol {a.rtol:g}, "
           f"finite differences in {a.workers} thread(s)")
