@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..identify.fit import FitResult, fit
+from ..identify.fit import FitResult, fit, sensitivities_available
 from ..identify.transforms import FreeParameters
 from ..model.model import Model
 from .residuals import OPTS
@@ -21,10 +21,15 @@ from .residuals import OPTS
 MAX_FAR = 3.0
 
 
-def identify(model: Model, exps, free=None, p_start=None, max_evals: int = 30, progress=None) -> FitResult:
-    """Least squares on ESR-scaled residuals of each experiment's ``fit_outputs``."""
+def identify(model: Model, exps, free=None, p_start=None, iterations: int = 30, progress=None) -> FitResult:
+    """Least squares on ESR-scaled residuals of each experiment's ``fit_outputs``, at most
+    ``iterations`` optimiser iterations: the simulation budget is sized for the Jacobian at
+    hand (one sensitivity run per iteration, or one run per free parameter when the model has
+    no analytic sensitivities), so a budget means the same search either way."""
+    n_free = len(free if free is not None else model.free_params)
+    per = 2 if sensitivities_available(model) else n_free + 1
     return fit(model, exps, free, method="least-squares", cost="esr", p_start=p_start,
-               max_evals=max_evals, opts=OPTS, progress=progress)
+               max_evals=iterations * per + n_free + 2, opts=OPTS, progress=progress)
 
 
 def inflated_stderr(res: FitResult, n_eff: float) -> np.ndarray:

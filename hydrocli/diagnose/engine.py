@@ -26,7 +26,7 @@ from ..errors import DataError, Problem
 from ..experiments.experiment import Experiment
 from ..experiments.experiment_file import load_all
 from ..executor import executor
-from ..identify.fit import FitResult
+from ..identify.fit import FitResult, sensitivities_available
 from ..model.builder import build_model
 from ..model.model import Model
 from ..netlist.loader import load_netlist
@@ -195,7 +195,7 @@ def baseline_step(su: Setup, st: Settings, progress=None) -> Baseline:
     model, train, validate, outputs = su.model, su.train, su.validate, su.outputs
     _log(progress, f"re-identifying the base model ({len(model.free_params)} free parameters) on "
                    f"{len(train)} training experiment(s)…")
-    res0 = baseline.identify(model, train, max_evals=st.base_evals)
+    res0 = baseline.identify(model, train, iterations=st.base_evals)
     base = _stage(augment.set_values(su.net, dict(zip(res0.names, res0.estimates))), model, res0.p, res0.cost,
                   res0.names, train, validate, outputs)
     n_eff = _n_eff(model, train, base.Y_train, outputs)
@@ -333,10 +333,14 @@ def _screen(stage: Stage, cands: list[Candidate], texts: dict, common: dict, n_e
             progress) -> dict:
     """Score test of every candidate against the current residual."""
     obj = residuals.objective(stage.model, common["train"])
-    r = obj.residuals(stage.p)
-    idx = [stage.model.param_index(n) for n in stage.free]
-    steps = [max(abs(stage.p[i]) * 1e-3, 1e-12) for i in idx]
-    B = residuals.sensitivities(obj, stage.p, idx, steps, r)
+    if sensitivities_available(stage.model):
+        # the current model's own parameter sensitivities, exact and in one run (identify's)
+        r, B = obj.residuals_jacobian(stage.p, list(stage.free))
+    else:
+        r = obj.residuals(stage.p)
+        idx = [stage.model.param_index(n) for n in stage.free]
+        steps = [max(abs(stage.p[i]) * 1e-3, 1e-12) for i in idx]
+        B = residuals.sensitivities(obj, stage.p, idx, steps, r)
     _log(progress, f"round {round_ + 1}: screening {len(cands)} candidate(s)…")
     scr = workers.run_all(workers.screen_one, [dict(common, key=c.key, text=texts[c.key], params=c.params,
                                                     r=r, B=B, n_eff=n_eff) for c in cands], pool)
@@ -393,7 +397,7 @@ def _polish(su: Setup, stage: Stage, c: Candidate, text: str, f: dict, n_eff: fl
     p_c = workers.warm_vector(model_c, f["param_names"], f["p"])
     free_c = list(model_c.free_params)
     _log(progress, f"  polishing the model with {c.effect} (all {len(free_c)} free parameters)…")
-    pol = baseline.identify(model_c, su.train, p_start=p_c, max_evals=st.base_evals)
+    pol = baseline.identify(model_c, su.train, p_start=p_c, iterations=st.base_evals)
     if pol.cost < f["cost"]:
         p_c, f = pol.p, dict(f, cost=pol.cost, names=pol.names, estimates=pol.estimates.tolist(),
                              stderr=baseline.inflated_stderr(pol, n_eff).tolist())

@@ -123,7 +123,7 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
     base = model.p0 if p_start is None else np.asarray(p_start, float)
     objective = Objective(model, make_targets(model, experiments, outputs, cost, weights), opts)
     z0 = fp.to_z(base[fp.index])
-    use_sens = _sensitivities_available(model, gradient)
+    use_sens = sensitivities_available(model, gradient)
     # simulations kept for after the search: residuals and Jacobian at the optimum (+ the fixed parameters')
     reserve = (1 + 1 + int(assess)) if use_sens else len(z0) + 1
     tracker = _Tracker(progress, max(max_evals - reserve, 1))
@@ -220,7 +220,7 @@ def fit(model: Model, experiments: list[Experiment], free: list[str] | None = No
     return res
 
 
-def _sensitivities_available(model: Model, gradient: str) -> bool:
+def sensitivities_available(model: Model, gradient: str = "auto") -> bool:
     """Whether the Jacobian comes from sensitivities (compiles the sensitivity library)."""
     if gradient == "finite-differences":
         return False
