@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..fileio import note_input
 from ..errors import DataError, Location, Problem
 from ..units import si_factor
 
@@ -97,6 +98,7 @@ def read_recording(path: str | Path, time_column: str | None = None, check_colum
         raise DataError(Problem(f"recording not found: {path}", Location(str(path)),
                                 "check the path (relative paths in an experiment file are read from "
                                 "the experiment file's folder)"))
+    note_input(path)
     suffix = path.suffix.lower()
     if suffix == ".csv":
         return read_csv(path, time_column, check_columns)

@@ -24,6 +24,7 @@ TOP_KEYS = ("name", "description", "units", "fluid", "include", "templates", "in
 MAP_SECTIONS = ("units", "fluid", "templates", "inputs", "outputs", "components", "initial")
 COMPONENT_KEYS = ("type", "ports", "description")
 FLUID_PROPS = {"beta": "Pa", "rho": "kg/m^3", "nu": "m^2/s", "p_tank": "Pa"}
+MAX_INCLUDES = 200       # included files read for one machine (a diamond of includes grows fast)
 UNIT_KEYS = ("pressure", "length", "area", "volume", "flow", "mass", "force", "time", "velocity",
              "angle", "torque", "inertia", "stiffness", "damping", "flow_gain", "leakage")
 
@@ -40,7 +41,7 @@ def load_netlist_text(text: str, file: str = "<machine>") -> Netlist:
 def load_doc(doc, file: str, text: str = "") -> Netlist:
     """Check and convert a parsed machine document; all problems are raised together."""
     errs = Errors()
-    sections = _merge_includes(doc, file, errs, seen=(str(Path(file).resolve()),))
+    sections = _merge_includes(doc, file, errs, seen=(str(Path(file).resolve()),), budget=[MAX_INCLUDES])
     defaults = _unit_defaults(sections.get("units"), errs)
     fluid = _load_fluid(sections.get("fluid"), defaults, errs)
     components = {}
@@ -64,7 +65,7 @@ def load_doc(doc, file: str, text: str = "") -> Netlist:
 
 
 # -- sections ----------------------------------------------------------------------------
-def _merge_includes(doc, file: str, errs: Errors, seen: tuple[str, ...]) -> dict:
+def _merge_includes(doc, file: str, errs: Errors, seen: tuple[str, ...], budget: list[int]) -> dict:
     """Sections of this file merged over those of its includes.
 
     Mapping sections become {key: (value, parent map, file)} so every entry keeps its own
@@ -89,12 +90,17 @@ def _merge_includes(doc, file: str, errs: Errors, seen: tuple[str, ...]) -> dict
             errs.add(f"included file '{rel}' not found (looked for {path})", loc,
                      "include paths are relative to the including file")
             continue
+        budget[0] -= 1
+        if budget[0] < 0:
+            errs.add(f"more than {MAX_INCLUDES} included files are read for this machine (includes that "
+                     "include each other many times?)", loc, "include each shared file once, from the top file")
+            return merged
         try:
             sub, _ = Y.load_file(path)
         except HydroError as exc:
             errs.extend(exc)
             continue
-        _merge_into(merged, _merge_includes(sub, str(path), errs, seen + (key,)))
+        _merge_into(merged, _merge_includes(sub, str(path), errs, seen + (key,), budget))
     own = {}
     for k, v in doc.items():
         if k in ("include", "name", "description", "notes") or k not in TOP_KEYS:
