@@ -28,14 +28,19 @@ def register(app: typer.Typer) -> None:
 def _run(machine, train, validate, out, max_effects, jobs, top, no_pdf) -> None:
     from ..diagnose import Settings, diagnose
     from ..diagnose.summary import console_summary, write_augmented, write_json
+    from ..fileio import atomic_path, guard_output_dir
+    files = ("diagnosis.json", "augmented.yaml") + (() if no_pdf else ("report.pdf",))
+    guard_output_dir(out, files, (machine, *train, *validate))   # before the long diagnosis
 
     diag = diagnose(machine, train, validate, Settings(max_effects=max_effects, jobs=jobs, top=top),
                     progress=lambda m: typer.echo(m, err=True))
+    guard_output_dir(out, files)            # every input is known now
     out.mkdir(parents=True, exist_ok=True)
     write_json(diag, out / "diagnosis.json")
     write_augmented(diag, out / "augmented.yaml")
     if not no_pdf:
         from ..diagnose.report_pages import write_report
-        write_report(diag, out / "report.pdf")
+        with atomic_path(out / "report.pdf", suffix=".pdf") as tmp:   # a killed write keeps the old report
+            write_report(diag, tmp)
     typer.echo(console_summary(diag))
     typer.echo(f"→ {out}/diagnosis.json, {out}/augmented.yaml" + ("" if no_pdf else f", {out}/report.pdf"))

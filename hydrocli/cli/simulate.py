@@ -30,11 +30,17 @@ def _run(machine, experiment, out, sets, rtol, backend) -> None:
     from ..results import write_result
     from ..solve.simulate import SolverOptions
 
+    from ..fileio import guard_output
+    from .options import BACKENDS, check_choice, check_positive
+    check_choice("--backend", backend, BACKENDS)
+    check_positive("--rtol", rtol, upper=1.0)
+    guard_output(out, (machine, experiment))
     t0 = time.perf_counter()
     _, model = load_machine(machine, sets)
     for w in model.warnings:
         typer.echo(f"warning: {w}", err=True)
     exp = load_experiment(experiment, model)
+    guard_output(out)                       # now that the recording an experiment names is known
     t1 = time.perf_counter()
     res = simulate_experiment(model, exp, opts=SolverOptions(rtol=rtol, backend=backend))
     t2 = time.perf_counter()

@@ -76,6 +76,21 @@ SIGNAL_IN = Port("in", Domain.SIGNAL, "input signal", direction="in")
 SIGNAL_OUT = Port("out", Domain.SIGNAL, "output signal", direction="out")
 
 
+#: Largest plausible magnitude of a parameter, by its SI unit (data, not code): a value beyond
+#: it is a typing or unit slip ("1e300 kg", a volume in mm³ read as m³), refused at load.
+MAGNITUDE_LIMITS: dict[str, float] = {
+    "kg": 1e8,            # mass: a large offshore crane's payload is ~1e7 kg
+    "kg*m^2": 1e10,       # moment of inertia
+    "Pa": 1e12,           # pressures, bulk and Young's moduli (steel 2.1e11 Pa)
+    "m^3": 1e2,           # oil volumes
+    "m^2": 1e2,           # areas
+    "m": 1e4,             # lengths, strokes
+    "s": 1e6,             # time constants, delays
+    "N": 1e10,            # forces
+    "N/m": 1e13,          # stiffnesses
+}
+
+
 @dataclass(frozen=True)
 class Param:
     """One parameter: SI unit, default, hard validity limits and identification bounds."""
@@ -96,9 +111,14 @@ class Param:
     def check(self, value) -> str | None:
         """A problem text when ``value`` is not valid for this parameter, else None."""
         values = value if isinstance(value, (list, tuple)) else [value]
+        limit = MAGNITUDE_LIMITS.get(self.unit.replace(" ", ""))
         for v in values:
             if v != v:
                 return f"{self.name} is NaN"
+            if v in (float("inf"), float("-inf")):
+                return f"{self.name} must be finite (got {v})"
+            if limit is not None and abs(v) > limit:
+                return f"{self.name} = {v:g} {self.unit} is beyond the physical range (|value| ≤ {limit:g} {self.unit})"
             if self.positive and v <= 0:
                 return f"{self.name} must be > 0 (got {v:g} {self.unit})"
             if self.min is not None and v < self.min:

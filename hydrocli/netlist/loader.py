@@ -204,13 +204,8 @@ def _load_component(name: str, src: CompSource, defaults, fluid, errs) -> Compon
             continue
         spec = cls.param(key)
         pv = param_value(val, spec.unit, src, key, f"{src.ypath}.{key}", defaults, errs, vector=spec.vector)
-        if pv is None:
-            continue
-        problem = spec.check(pv.value)
-        if problem:
-            errs.add(f"'{name}': {problem}", pv.loc, "give a physically valid value")
-            continue
-        params[str(key)] = pv
+        if pv is not None and check_param(name, spec, pv, errs):
+            params[str(key)] = pv
     ok = _defaults(name, cls, params, fluid, loc, errs)
     if ok:
         for problem in cls().check({k: v.value for k, v in params.items()}):
@@ -251,6 +246,9 @@ def _defaults(name, cls, params, fluid, loc, errs) -> bool:
             continue
         if spec.fluid and spec.fluid in fluid:
             fv = fluid[spec.fluid]
+            if not check_param(name, spec, fv, errs):
+                ok = False
+                continue
             params[spec.name] = ParamValue(fv.value, fv.loc, fv.free, fv.bounds, fv.unit, fv.log, given=False)
         elif spec.default is not None:
             params[spec.name] = ParamValue(list(spec.default) if spec.vector else spec.default, loc, given=False)
@@ -259,6 +257,28 @@ def _defaults(name, cls, params, fluid, loc, errs) -> bool:
             errs.add(f"'{name}' ({cls.type}) needs parameter '{spec.name}' [{spec.unit}]: {spec.description}", loc,
                      f"add '{spec.name}: <value>' to '{name}'")
     return ok
+
+
+def check_param(name: str, spec, pv: ParamValue, errs: Errors) -> bool:
+    """The one check of a parameter value against its spec's physical range (finite, sign,
+    min/max, plausible magnitude), of its identification bounds against the same range, and
+    of a free start value against its bounds. False (and a located problem) when it fails."""
+    problem = spec.check(pv.value)
+    if problem:
+        errs.add(f"'{name}': {problem}", pv.loc, "give a physically valid value")
+        return False
+    if pv.bounds is not None:
+        problem = spec.check(list(pv.bounds))
+        if problem:
+            errs.add(f"'{name}': bounds {list(pv.bounds)} leave the physical range: {problem}", pv.loc,
+                     "give bounds inside the parameter's valid range ('hydro components TYPE' lists it)")
+            return False
+        if pv.free and not spec.vector and not pv.bounds[0] <= pv.value <= pv.bounds[1]:
+            errs.add(f"'{name}': start value {pv.value:g} {spec.unit} is outside its bounds "
+                     f"[{pv.bounds[0]:g}, {pv.bounds[1]:g}] {spec.unit}", pv.loc,
+                     "move the value inside the bounds or widen them (it would be clipped silently)")
+            return False
+    return True
 
 
 def _check_keys(m, allowed, file, errs, what="key", ypath="") -> None:
