@@ -91,6 +91,23 @@ MAGNITUDE_LIMITS: dict[str, float] = {
 }
 
 
+#: States that cannot be negative (absolute pressures; the model's pressures are absolute).
+NON_NEGATIVE_STATE_UNITS = ("Pa",)
+
+
+def check_state_value(name: str, unit: str, value: float) -> str | None:
+    """A problem text for a non-physical initial state value (NaN, ±inf, a negative absolute
+    pressure, a magnitude beyond :data:`MAGNITUDE_LIMITS`), else None."""
+    if value != value or value in (float("inf"), float("-inf")):
+        return f"initial {name} must be a finite number (got {value})"
+    if unit in NON_NEGATIVE_STATE_UNITS and value < 0:
+        return f"initial {name} = {value:g} {unit} is below 0 Pa absolute (pressures are absolute)"
+    limit = MAGNITUDE_LIMITS.get(unit)
+    if limit is not None and abs(value) > limit:
+        return f"initial {name} = {value:g} {unit} is beyond the physical range (|value| ≤ {limit:g} {unit})"
+    return None
+
+
 @dataclass(frozen=True)
 class Param:
     """One parameter: SI unit, default, hard validity limits and identification bounds."""

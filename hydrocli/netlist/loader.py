@@ -25,8 +25,12 @@ MAP_SECTIONS = ("units", "fluid", "templates", "inputs", "outputs", "components"
 COMPONENT_KEYS = ("type", "ports", "description")
 FLUID_PROPS = {"beta": "Pa", "rho": "kg/m^3", "nu": "m^2/s", "p_tank": "Pa"}
 MAX_INCLUDES = 200       # included files read for one machine (a diamond of includes grows fast)
-UNIT_KEYS = ("pressure", "length", "area", "volume", "flow", "mass", "force", "time", "velocity",
-             "angle", "torque", "inertia", "stiffness", "damping", "flow_gain", "leakage")
+#: file-level default-unit categories and the SI unit whose dimension each must have
+UNIT_CATEGORIES = {"pressure": "Pa", "length": "m", "area": "m^2", "volume": "m^3", "flow": "m^3/s", "mass": "kg",
+                   "force": "N", "time": "s", "velocity": "m/s", "angle": "rad", "torque": "N*m",
+                   "inertia": "kg*m^2", "stiffness": "N/m", "damping": "N*s/m", "flow_gain": "m^3/s/Pa^0.5",
+                   "leakage": "m^3/s/Pa"}
+UNIT_KEYS = tuple(UNIT_CATEGORIES)
 
 
 def load_netlist(path: str | Path) -> Netlist:
@@ -137,8 +141,19 @@ def _unit_defaults(section, errs: Errors) -> dict[str, str]:
             errs.add(f"unknown unit category '{key}'{registry.suggest(str(key), UNIT_KEYS)}",
                      Y.key_loc(parent, key, f, f"units.{key}"), f"categories: {', '.join(UNIT_KEYS)}")
             continue
+        loc = Y.value_loc(parent, key, f, f"units.{key}")
+        want = UNIT_CATEGORIES[key]
+        if not isinstance(unit, str) or not unit.strip():
+            errs.add(f"units.{key}: expected a unit name such as '{want}', got {unit!r}", loc,
+                     f"e.g. units: {{{key}: {want}}}")
+            continue
         try:
-            out[dimensionality(str(unit))] = str(unit)
+            dim = dimensionality(unit)
+            if dim != dimensionality(want):
+                errs.add(f"units.{key}: '{unit}' is not a {key} unit (it has dimension {dim}, "
+                         f"a {key} has {dimensionality(want)})", loc, f"give a unit convertible to {want}")
+                continue
+            out[dim] = unit
         except HydroError as exc:
             errs.extend(type(exc)([_at(p, Y.value_loc(parent, key, f, f"units.{key}")) for p in exc.problems]))
     return out
