@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..fileio import note_input
+from .unit_check import check_time_unit
 from ..errors import DataError, Location, Problem
 from ..units import si_factor
 
@@ -41,6 +42,7 @@ class Recording:
 def read_csv(path: str | Path, time_column: str | None = None, check_columns: bool = True) -> Recording:
     """CSV with a header row ``t[s],u[%],P1[bar],…``; the first column is time unless named."""
     path = Path(path)
+    note_input(path)
     try:
         with open(path, newline="", encoding="utf-8") as fh:
             reader = csv.reader(fh)
@@ -87,6 +89,7 @@ def read_csv(path: str | Path, time_column: str | None = None, check_columns: bo
                                 Location(str(path), 1, 1)))
     cols = {n: data[:, j] * factors[n] for j, n in enumerate(names)}
     rec = Recording(str(path), cols.pop(tname), cols, dict(zip(names, units)), first_row=2)
+    check_time_unit(rec, tname)
     check_recording(rec, row_offset=2, check_columns=check_columns)
     return rec
 
@@ -98,7 +101,6 @@ def read_recording(path: str | Path, time_column: str | None = None, check_colum
         raise DataError(Problem(f"recording not found: {path}", Location(str(path)),
                                 "check the path (relative paths in an experiment file are read from "
                                 "the experiment file's folder)"))
-    note_input(path)
     suffix = path.suffix.lower()
     if suffix == ".csv":
         return read_csv(path, time_column, check_columns)
@@ -164,10 +166,12 @@ def _assemble(file: str, cols: dict, units: dict, time_column: str | None, check
     if tname is None or tname not in cols:
         raise DataError(Problem(f"time column '{time_column or 't'}' not found (signals: {', '.join(cols) or 'none'})",
                                 Location(file), "name the time column with 'time:' in the experiment file"))
+    note_input(file)
     t = cols.pop(tname)
     other = {k: v.size for k, v in cols.items() if v.size != t.size}
     cols = {k: v for k, v in cols.items() if v.size == t.size}
     rec = Recording(file, t, cols, units, other)
+    check_time_unit(rec, tname)
     check_recording(rec, check_columns=check_columns)
     return rec
 
