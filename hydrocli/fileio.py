@@ -69,7 +69,7 @@ def guard_output(path: str | Path, inputs=(), option: str = "--out") -> Path:
     taken = set(_INPUTS.get() or ())
     taken.update(i for i in (_identity(Path(p)) for p in inputs if p is not None) if i is not None)
     if ident is not None and ident in taken:
-        raise UsageError(Problem(f"{option} {path} is an input of this command; writing it would destroy it",
+        raise UsageError(Problem("this file is an input of the command; writing it would destroy it",
                                  loc, "choose another output file name"))
     if path.exists() or path.is_symlink():
         try:
@@ -77,17 +77,17 @@ def guard_output(path: str | Path, inputs=(), option: str = "--out") -> Path:
         except OSError:
             mode = 0
         if stat.S_ISDIR(mode):
-            raise UsageError(Problem(f"{option} {path} is a directory, not a file", loc,
+            raise UsageError(Problem("this is a directory, not a file", loc,
                                      "give a file name inside it, e.g. " + str(path / "out")))
         if not stat.S_ISREG(mode):
-            raise UsageError(Problem(f"{option} {path} is not a regular file (a device, pipe or socket)", loc,
+            raise UsageError(Problem("this is not a regular file (a device, pipe or socket)", loc,
                                      "write to a regular file"))
     folder = _existing_parent(path.parent)
     if folder is None or not folder.is_dir():
-        raise UsageError(Problem(f"{option} {path}: '{folder or path.parent}' is not a folder", loc,
+        raise UsageError(Problem(f"'{folder or path.parent}' is not a folder", loc,
                                  "choose a path inside an existing folder"))
     if not os.access(folder, os.W_OK | os.X_OK):
-        raise UsageError(Problem(f"{option} {path}: the folder '{folder}' is not writable", loc,
+        raise UsageError(Problem(f"the folder '{folder}' is not writable", loc,
                                  "choose a writable folder"))
     return path
 
@@ -96,7 +96,7 @@ def guard_output_dir(path: str | Path, files: tuple[str, ...], inputs=(), option
     """Check an output folder and the files the command will write inside it."""
     path = Path(path)
     if path.exists() and not path.is_dir():
-        raise UsageError(Problem(f"{option} {path} exists and is not a directory", Location(path=f"{option} {path}"),
+        raise UsageError(Problem("this exists and is not a directory", Location(path=f"{option} {path}"),
                                  "give a directory (it is created when missing)"))
     for name in files:
         guard_output(path / name, inputs, option)

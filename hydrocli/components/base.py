@@ -89,6 +89,7 @@ MAGNITUDE_LIMITS: dict[str, float] = {
     "N": 1e10,            # forces
     "N/m": 1e13,          # stiffnesses
 }
+DEFAULT_MAGNITUDE_LIMIT = 1e20   # any other unit: no physical parameter of a machine comes near it
 
 
 #: States that cannot be negative (absolute pressures; the model's pressures are absolute).
@@ -128,7 +129,7 @@ class Param:
     def check(self, value) -> str | None:
         """A problem text when ``value`` is not valid for this parameter, else None."""
         values = value if isinstance(value, (list, tuple)) else [value]
-        limit = MAGNITUDE_LIMITS.get(self.unit.replace(" ", ""))
+        limit = MAGNITUDE_LIMITS.get(self.unit.replace(" ", ""), DEFAULT_MAGNITUDE_LIMIT)
         for v in values:
             if v != v:
                 return f"{self.name} is NaN"

@@ -79,3 +79,26 @@ def check_recording_columns(rec, model) -> None:
     for name in model.output_names:
         if name in rec.columns:
             check_column(rec, name, model.output_unit_si(name))
+
+
+#: Most samples an experiment grid may have (20 M samples × 8 B = 160 MB per signal): a
+#: "1e6 s at 1 kHz" design or a "resample: 1 GHz" is refused instead of exhausting memory.
+MAX_SAMPLES = 20_000_000
+
+
+def checked_quantity(value: float, loc: Location, what: str, positive: bool = False) -> float:
+    """``value`` (SI) if finite (and > 0 when ``positive``), else a located DataError."""
+    import math
+    if not math.isfinite(value):
+        raise DataError(Problem(f"{what} must be a finite number (got {value})", loc, "give a finite value"))
+    if positive and value <= 0:
+        raise DataError(Problem(f"{what} must be greater than 0 (got {value:g})", loc, "give a positive value"))
+    return value
+
+
+def check_samples(duration: float, rate: float, loc: Location, what: str) -> None:
+    """Refuse a time grid of more than :data:`MAX_SAMPLES` samples."""
+    n = duration * rate
+    if n > MAX_SAMPLES:
+        raise DataError(Problem(f"{what}: {duration:g} s at {rate:g} Hz is {n:.3g} samples; at most "
+                                f"{MAX_SAMPLES:.3g} are allowed", loc, "shorten the experiment or lower the rate"))

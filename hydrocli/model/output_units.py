@@ -21,6 +21,10 @@ def check_output_units(model, outputs) -> list[Problem]:
     units = _symbol_units(model)
     for name, decl in outputs.items():
         e = model.equations.output_exprs.get(name)
+        if e is not None and not _finite_constants(e):
+            problems.append(Problem(f"output '{name}': a number in '{decl.expr}' is not finite", decl.loc,
+                                    "write finite numbers (1e999 overflows to infinity)"))
+            continue
         if e is None or not decl.unit:
             continue
         got = _dim(e, units)
@@ -34,6 +38,19 @@ def check_output_units(model, outputs) -> list[Problem]:
                                 f"'{decl.expr}' is in {si} ({got.dimensionality})", decl.loc,
                                 f"give a unit convertible to {si}"))
     return problems
+
+
+def _finite_constants(e) -> bool:
+    import math
+    stack = [e]
+    while stack:
+        x = stack.pop()
+        if x.op == "const":
+            if not math.isfinite(x.args[0]):
+                return False
+        elif x.op != "sym":
+            stack.extend(a for a in x.args if hasattr(a, "op"))
+    return True
 
 
 def _symbol_units(model) -> dict[tuple[str, str], str]:

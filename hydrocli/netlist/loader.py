@@ -95,6 +95,8 @@ def _merge_includes(doc, file: str, errs: Errors, seen: tuple[str, ...], budget:
                      "include paths are relative to the including file")
             continue
         budget[0] -= 1
+        if budget[0] < -1:
+            return merged
         if budget[0] < 0:
             errs.add(f"more than {MAX_INCLUDES} included files are read for this machine (includes that "
                      "include each other many times?)", loc, "include each shared file once, from the top file")
