@@ -55,7 +55,7 @@ def _identity(path: Path):
     """(device, inode) of an existing file — hard links and symlinks compare equal."""
     try:
         st = os.stat(path)
-    except OSError:
+    except (OSError, ValueError):
         return None
     return (st.st_dev, st.st_ino)
 
@@ -65,6 +65,9 @@ def guard_output(path: str | Path, inputs=(), option: str = "--out") -> Path:
     """Check that ``path`` may be written by this command; raise UsageError (exit 2) if not."""
     path = Path(path)
     loc = Location(path=f"{option} {path}")
+    if "\0" in str(path) or not str(path).strip():
+        raise UsageError(Problem("not a usable file name (empty, or with a NUL character)", loc,
+                                 "give a plain file name"))
     ident = _identity(path)
     taken = set(_INPUTS.get() or ())
     taken.update(i for i in (_identity(Path(p)) for p in inputs if p is not None) if i is not None)

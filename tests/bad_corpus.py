@@ -431,6 +431,10 @@ def usage(b: _Builder) -> None:
                        ("set_no_value", ["--set", "valve.tau"])):
         b.add(Case(f"usage_identify_{tag}", base, ident + extra, 2, absent=("id.yaml",)))
     b.add(Case("usage_identify_no_out", base, ident[:-2], 2))
+    masked = {**base, "e.yaml": EXPERIMENT + "mask: {all: {times: [[0 s, 1 s]]}}\n"}
+    b.add(Case("experiment_identify_every_sample_masked", masked, ident, 3, "e.yaml", keep=("m.yaml",), absent=("id.yaml",)))
+    b.add(Case("experiment_identify_fit_output_all_nan", {**base, "e.yaml": EXPERIMENT + "fit: [P1]\nmask: {P1: {above: 0 bar}}\n"},
+               ident, 3, "e.yaml", absent=("id.yaml",)))
     b.add(Case("usage_identify_two_modes", {**base, "s.yaml": "stages: []\n"}, ident + ["--stages", "{d}/s.yaml"], 2))
     b.add(Case("usage_identify_nothing_free", {**base, "m.yaml": MACHINE.replace("free: true", "free: false")}, ident, 2))
     for name in ("cylinder_doble", "valve43", "../etc/passwd"):

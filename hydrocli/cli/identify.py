@@ -116,7 +116,7 @@ def _run(a: dict) -> None:
         write_outputs(net, model, exps, p, names, combine(res_list, stages), a["out"], a["results"], opts)
         return
     exps = [e for path in a["experiment"] for e in load_all(path, model)]
-    _check_before_fit(net, model, free, a)
+    _check_before_fit(net, model, free, a, exps, outputs)
     with progress_bar(a["max_evals"]) as prog:
         kw = dict(method=a["method"], cost=a["cost"], outputs=outputs, bounds=bounds, max_evals=a["max_evals"],
                   opts=opts, progress=prog.update, workers=a["workers"])
@@ -132,7 +132,7 @@ def _run(a: dict) -> None:
     write_outputs(net, model, exps, res.p, res.names, res.as_dict(), a["out"], a["results"], opts)
 
 
-def _check_before_fit(net, model, free, a) -> None:
+def _check_before_fit(net, model, free, a, exps, outputs) -> None:
     """Everything that would make the end of a long fit fail, checked before it starts: the
     identified values can be written back, and the outputs (now that every input is read)
     are not inputs."""
@@ -142,9 +142,26 @@ def _check_before_fit(net, model, free, a) -> None:
     if not names:
         _usage("no free parameter: mark some 'free: true' in the machine or give --free comp.param")
     check_write_back(net, names)
+    _check_samples_left(exps, outputs)
     guard_output(a["out"], (), "--out")
     if a["results"] is not None:
         guard_output(a["results"], (), "--results")
+
+
+def _check_samples_left(exps, outputs) -> None:
+    """A fit needs residuals: refuse when masks (or NaN) leave no sample of any fitted output."""
+    import numpy as np
+
+    from ..errors import DataError, Location, Problem
+    total = 0
+    for exp in exps:
+        for o in [o for o in (outputs or exp.fit_outputs or list(exp.measured)) if o in exp.measured]:
+            y = np.asarray(exp.measured[o], dtype=float)
+            total += int((np.isfinite(y) & exp.mask.get(o, np.ones_like(y, dtype=bool))).sum())
+    if total == 0:
+        raise DataError(Problem("no sample is left to fit: every sample of the fitted outputs is masked or NaN",
+                                Location(exps[0].file if exps else None, path="mask"),
+                                "loosen 'mask:' or the 'window:', or fit other outputs"))
 
 
 def parse_free(items, model) -> tuple[list[str] | None, dict[str, tuple[float, float]]]:
