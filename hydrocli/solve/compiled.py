@@ -354,3 +354,44 @@ def _message(status: int, st: dict) -> str:
     if status >= 100:
         return f"model returned status {status - 100} at t={t:.6g} s"
     return STATUS_MESSAGES.get(status, f"integrator error {status}") + f" (status {status})"
+
+
+# -- the explicit, cached, warned fallback to the Python backend ----------------------------
+#: sha256 of a model's C source → why the compiled backend is unavailable for it (this process)
+_UNAVAILABLE: dict[str, str] = {}
+
+
+def compiled_or_none(model, warn=None):
+    """``model.compiled()``, or None when no C compiler works or the library cannot be loaded.
+
+    Only a compiler failure (:class:`CompileError`) or a library that will not load
+    (``OSError``) falls back; anything else is a bug and propagates. A cached library that
+    will not load (truncated, another architecture) is removed and rebuilt once. A failure
+    is remembered per model source, so the compiler is not re-run for every simulation, and
+    reported once on stderr (``warn``) with the reason and the fix.
+    """
+    import sys
+
+    key = hashlib.sha256(model.c_source.encode("utf-8")).hexdigest()
+    if key in _UNAVAILABLE:
+        return None
+    def load_error(exc) -> bool:                          # CompiledModel wraps the loader's OSError
+        return isinstance(exc, OSError) or isinstance(exc.__cause__, OSError)
+
+    try:
+        try:
+            return model.compiled()
+        except (OSError, ValueError) as exc:             # a broken cached library: rebuild it once
+            if not load_error(exc):
+                raise
+            os.unlink(build_library(model.c_source))
+            return model.compiled()
+    except (CompileError, OSError, ValueError) as exc:
+        if not isinstance(exc, CompileError) and not load_error(exc):
+            raise
+        reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        _UNAVAILABLE[key] = reason
+        (warn or (lambda m: print(m, file=sys.stderr)))(
+            f"warning: compiled backend unavailable for {model.name} ({reason}); using the Python backend, "
+            "which is much slower. Install a C compiler (gcc, or set CC), or pass --backend python to choose it.")
+        return None
