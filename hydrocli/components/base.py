@@ -89,7 +89,7 @@ MAGNITUDE_LIMITS: dict[str, float] = {
     "N": 1e10,            # forces
     "N/m": 1e13,          # stiffnesses
 }
-DEFAULT_MAGNITUDE_LIMIT = 1e20   # any other unit: no physical parameter of a machine comes near it
+DEFAULT_MAGNITUDE_LIMIT = 1e100  # any other unit (1e30 stands for "no leakage" in some files)
 
 
 #: States that cannot be negative (absolute pressures; the model's pressures are absolute).
