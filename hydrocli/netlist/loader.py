@@ -23,7 +23,7 @@ TOP_KEYS = ("name", "description", "units", "fluid", "include", "templates", "in
             "components", "initial", "notes")
 MAP_SECTIONS = ("units", "fluid", "templates", "inputs", "outputs", "components", "initial")
 COMPONENT_KEYS = ("type", "ports", "description")
-FLUID_PROPS = {"beta": "Pa", "rho": "kg/m^3", "nu": "m^2/s", "p_tank": "Pa"}
+FLUID_PROPS = {"beta": "Pa", "rho": "kg/m^3", "nu": "m^2/s", "p_tank": "Pa", "p_vap": "Pa"}
 MAX_INCLUDES = 200       # included files read for one machine (a diamond of includes grows fast)
 #: file-level default-unit categories and the SI unit whose dimension each must have
 UNIT_CATEGORIES = {"pressure": "Pa", "length": "m", "area": "m^2", "volume": "m^3", "flow": "m^3/s", "mass": "kg",

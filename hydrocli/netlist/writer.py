@@ -22,7 +22,7 @@ from . import yamldoc as Y
 from .model import Netlist
 from .params import unit_of
 
-FLUID_UNITS = {"beta": "Pa", "rho": "kg/m^3", "nu": "m^2/s", "p_tank": "Pa"}
+FLUID_UNITS = {"beta": "Pa", "rho": "kg/m^3", "nu": "m^2/s", "p_tank": "Pa", "p_vap": "Pa"}
 DIGITS = 6
 
 

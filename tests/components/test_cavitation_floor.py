@@ -17,12 +17,14 @@ from hydrocli.solve.simulate import InputTable, SolverOptions, simulate
 V, BETA, Q, P0 = 1e-4, 1.5e9, 1e-7, 10e5
 
 
-def _drained(p_vap: str = "2 kPa", tau: str = "1 ms", extra: str = ""):
+def _drained(p_vap: str | None = "2 kPa", tau: str = "1 ms", extra: str = ""):
+    """The floor set once for the machine (fluid: p_vap), or left at its default (None: off)."""
+    fluid_vap = f", p_vap: {p_vap}" if p_vap is not None else ""
     text = f"""
 name: drained
-fluid: {{beta: {BETA}, p_tank: 1 bar}}
+fluid: {{beta: {BETA}, p_tank: 1 bar{fluid_vap}}}
 components:
-  vol: {{type: volume, ports: {{P: a}}, V: {V}, p_vap: "{p_vap}", tau_cav: "{tau}"}}
+  vol: {{type: volume, ports: {{P: a}}, V: {V}, tau_cav: "{tau}"}}
   drain: {{type: flow_source, ports: {{P: a}}, Q: {-Q}}}
 {extra}
 initial: {{a.p: {P0}}}
@@ -54,9 +56,10 @@ def test_volume_drained_below_vapour_pressure_follows_the_closed_form():
     assert p.min() > 0                                         # never below absolute zero
 
 
-def test_without_the_floor_the_pressure_falls_through_zero():
+@pytest.mark.parametrize("p_vap", ["0 Pa", None])
+def test_without_the_floor_the_pressure_falls_through_zero(p_vap):
     t = np.linspace(0, 1.0, 201)
-    p = _run(_drained(p_vap="0 Pa"), t)
+    p = _run(_drained(p_vap=p_vap), t)          # the default (None) is off: machines keep their numbers
     assert p[-1] == pytest.approx(P0 - Q / (V / BETA) * t[-1], rel=1e-6)   # p0 − k t, negative
     assert p[-1] < 0
 
@@ -72,7 +75,8 @@ def test_cylinder_chamber_has_the_floor():
 name: cyl_floor
 fluid: {beta: 1.5e9, p_tank: 1 bar}
 components:
-  cyl: {type: cylinder, ports: {A: a, B: b, rod: piston, body: ground}, V_A0: 1e-4, V_B0: 1e-4, A_A: 1e-3, A_B: 1e-3}
+  cyl: {type: cylinder, ports: {A: a, B: b, rod: piston, body: ground}, V_A0: 1e-4, V_B0: 1e-4, A_A: 1e-3, A_B: 1e-3,
+        p_vap: 2 kPa}
   drain: {type: flow_source, ports: {P: a}, Q: -1e-7}
   fill: {type: flow_source, ports: {P: b}, Q: 1e-7}
   load: {type: mass, ports: {m: piston}, m: 100}

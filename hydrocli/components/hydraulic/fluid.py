@@ -34,8 +34,9 @@ AIR_PARAMS = (
           bounds=(1.0, 1.4)),
     Param("p_dissolve", "Pa", 0.0, "pressure at which the free air has dissolved (Henry's law); 0 = never",
           min=0.0, bounds=(2e5, 5e7)),
-    Param("p_vap", "Pa", 2e3, "vapour / gas-release pressure (absolute): below it released gas and vapour fill "
-          "the chamber and hold its pressure there (cavitation floor); 0 = no floor", min=0.0, max=1e6,
+    Param("p_vap", "Pa", 0.0, "vapour / gas-release pressure (absolute): below it released gas and vapour fill "
+          "the chamber and hold its pressure there (cavitation floor; typically 2 kPa); 0 = no floor. "
+          "'fluid: {p_vap: 2 kPa}' sets it for every volume and chamber", min=0.0, max=1e6, fluid="p_vap",
           source="Merritt, Hydraulic Control Systems §2.5 (cavitation); Jelali & Kroll §3.2"),
     Param("tau_cav", "s", 1e-3, "time constant with which released gas/vapour fills a chamber below p_vap",
           positive=True),
