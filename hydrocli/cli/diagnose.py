@@ -19,23 +19,29 @@ def register(app: typer.Typer) -> None:
         jobs: int = typer.Option(2, "--jobs", "-j", min=1, help="worker processes for candidate fits"),
         top: int = typer.Option(3, "--top", min=1, help="candidates re-identified per round"),
         no_pdf: bool = typer.Option(False, "--no-pdf", help="skip the PDF report"),
+        scheduler: str = typer.Option(None, "--scheduler", help="Dask scheduler address (tcp://HOST:PORT) for "
+                                      "the candidate fits; default: a local process pool of --jobs workers"),
+        no_nuisance: bool = typer.Option(False, "--no-nuisance", help="keep the valves' spool dynamics fixed in "
+                                         "the base fit"),
     ) -> None:
         """Locate the model/recording mismatch, name the missing physics, add it, show the fit improve."""
         from .main import run_guarded
-        run_guarded(_run, machine, train, validate, out, max_effects, jobs, top, no_pdf)
+        run_guarded(_run, machine, train, validate, out, max_effects, jobs, top, no_pdf, scheduler, no_nuisance)
 
 
-def _run(machine, train, validate, out, max_effects, jobs, top, no_pdf) -> None:
+def _run(machine, train, validate, out, max_effects, jobs, top, no_pdf, scheduler=None, no_nuisance=False) -> None:
     from ..diagnose import Settings, diagnose
-    from ..diagnose.summary import console_summary, write_augmented, write_json
+    from ..diagnose.summary import console_summary, write_augmented, write_json, write_proposals
     from ..fileio import atomic_path, guard_output_dir
     files = ("diagnosis.json", "augmented.yaml") + (() if no_pdf else ("report.pdf",))
     guard_output_dir(out, files, (machine, *train, *validate))   # before the long diagnosis
 
-    diag = diagnose(machine, train, validate, Settings(max_effects=max_effects, jobs=jobs, top=top),
+    diag = diagnose(machine, train, validate, Settings(max_effects=max_effects, jobs=jobs, top=top,
+                                                         scheduler=scheduler, nuisance=not no_nuisance),
                     progress=lambda m: typer.echo(m, err=True))
     guard_output_dir(out, files)            # every input is known now
     out.mkdir(parents=True, exist_ok=True)
+    proposals = write_proposals(diag, out)
     write_json(diag, out / "diagnosis.json")
     write_augmented(diag, out / "augmented.yaml")
     if not no_pdf:
@@ -43,4 +49,5 @@ def _run(machine, train, validate, out, max_effects, jobs, top, no_pdf) -> None:
         with atomic_path(out / "report.pdf", suffix=".pdf") as tmp:   # a killed write keeps the old report
             write_report(diag, tmp)
     typer.echo(console_summary(diag))
-    typer.echo(f"→ {out}/diagnosis.json, {out}/augmented.yaml" + ("" if no_pdf else f", {out}/report.pdf"))
+    typer.echo(f"→ {out}/diagnosis.json, {out}/augmented.yaml" + ("" if no_pdf else f", {out}/report.pdf")
+               + "".join(f", {p}" for p in proposals))

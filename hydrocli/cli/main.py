@@ -11,7 +11,7 @@ import typer
 
 from ..errors import HydroError
 
-COMMANDS = ("check", "components", "schema", "simulate", "identify", "validate", "report", "diagnose", "bench")
+COMMANDS = ("check", "components", "schema", "simulate", "identify", "validate", "report", "diagnose", "export", "bench")
 
 _state = {"debug": False}
 
@@ -66,8 +66,17 @@ app = typer.Typer(cls=_Group, add_completion=False, no_args_is_help=True, pretty
                   help="Model, simulate, identify, validate and diagnose hydraulic machines.")
 
 
+def _print_version(value: bool) -> None:
+    if value:
+        from .. import __version__
+        typer.echo(f"hydrocli {__version__}")
+        raise typer.Exit(0)
+
+
 @app.callback()
-def _root(debug: bool = typer.Option(False, "--debug", help="show tracebacks on errors (anywhere on the line)")) -> None:
+def _root(debug: bool = typer.Option(False, "--debug", help="show tracebacks on errors (anywhere on the line)"),
+          version: bool = typer.Option(False, "--version", callback=_print_version, is_eager=True,
+                                       help="print the version and exit")) -> None:
     _state["debug"] = _state["debug"] or debug
 
 

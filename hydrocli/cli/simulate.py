@@ -25,10 +25,7 @@ def register(app: typer.Typer) -> None:
 
 
 def _run(machine, experiment, out, sets, rtol, backend) -> None:
-    from ..runner import load_machine, simulate_experiment
-    from ..experiments.experiment import load_experiment
-    from ..results import write_result
-    from ..solve.simulate import SolverOptions
+    from ..api import load_experiment, load_machine   # the Python API: one path for CLI and notebooks
 
     from ..fileio import guard_output
     from .options import BACKENDS, check_choice, check_positive
@@ -36,15 +33,17 @@ def _run(machine, experiment, out, sets, rtol, backend) -> None:
     check_positive("--rtol", rtol, upper=1.0)
     guard_output(out, (machine, experiment))
     t0 = time.perf_counter()
-    _, model = load_machine(machine, sets)
+    m = load_machine(machine, set=sets)
+    model = m.model
     for w in model.warnings:
         typer.echo(f"warning: {w}", err=True)
-    exp = load_experiment(experiment, model)
+    exp = load_experiment(experiment, m)
     guard_output(out)                       # now that the recording an experiment names is known
     t1 = time.perf_counter()
-    res = simulate_experiment(model, exp, opts=SolverOptions(rtol=rtol, backend=backend))
+    sim = m.simulate(exp, rtol=rtol, backend=backend)
     t2 = time.perf_counter()
-    write_result(out, res)
+    res = sim.run
+    sim.save(out)
     st = res.solver_stats
     typer.echo(f"simulated {model.name} on {exp.name}: {res.t[-1] - res.t[0]:.3g} s in {t2 - t1:.3g} s "
                f"(load+build {t1 - t0:.2g} s; {st.get('backend', '?')} backend, "

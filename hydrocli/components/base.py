@@ -13,6 +13,8 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import TYPE_CHECKING, ClassVar
 
+from .roles import Role
+
 if TYPE_CHECKING:  # pragma: no cover
     from ..model.context import Context
 
@@ -176,6 +178,7 @@ class Component:
     parameters: ClassVar[tuple[Param, ...]] = ()
     states: ClassVar[tuple[StateSpec, ...]] = ()
     variables: ClassVar[tuple[VariableSpec, ...]] = ()
+    roles: ClassVar[tuple[Role, ...]] = ()     # what it can play in a machine (:mod:`.roles`)
 
     def equations(self, c: "Context") -> None:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -193,6 +196,10 @@ class Component:
     @classmethod
     def param(cls, name: str) -> Param | None:
         return next((p for p in cls.parameters if p.name == name), None)
+
+    @classmethod
+    def role(cls, name: str) -> Role | None:
+        return next((r for r in cls.roles if r.name == name), None)
 
     @classmethod
     def state_spec(cls, name: str) -> StateSpec | None:

@@ -48,6 +48,11 @@ def all_types() -> dict[str, type[Component]]:
     return dict(sorted(_TYPES.items()))
 
 
+def offering(role_name: str) -> dict[str, type[Component]]:
+    """Every registered type that offers the role ``role_name`` (see :mod:`.roles`)."""
+    return {t: c for t, c in all_types().items() if c.role(role_name) is not None}
+
+
 def suggest(name: str, choices) -> str:
     """' (did you mean …?)' or an empty string."""
     close = difflib.get_close_matches(name, list(choices), n=3, cutoff=0.6)

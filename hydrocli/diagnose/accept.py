@@ -37,20 +37,27 @@ def _at_bound(v: float, bounds, log: bool | None) -> bool:
     return abs(v - lo) < 1e-3 * (hi - lo) or abs(hi - v) < 1e-3 * (hi - lo)
 
 
+def need(val0: float, noise: float, later: bool = False, first_gain: float | None = None) -> float:
+    """The validation ESR gain (%) an effect must exceed, from the current model's summed
+    validation ESR ``val0`` and the noise floor: rule 2 above."""
+    out = max(noise, (MIN_REL_LATER if later else MIN_REL) * max(val0 - noise, 0.0))
+    if later and first_gain is not None and first_gain > 0:
+        # a further effect must matter next to the first one, not mop up its form mismatch
+        out = max(out, MIN_REL_FIRST * first_gain)
+    return out
+
+
 def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: float, noise: float,
           later: bool = False, first_gain: float | None = None) -> dict:
     k = len(cand.params)
     dbic = stats.delta_bic(ssr0, fitres["cost"], n_eff, k)
     gain = val0 - val1
-    need = max(noise, (MIN_REL_LATER if later else MIN_REL) * max(val0 - noise, 0.0))
-    if later and first_gain is not None and first_gain > 0:
-        # a further effect must matter next to the first one, not mop up its form mismatch
-        need = max(need, MIN_REL_FIRST * first_gain)
+    need_ = need(val0, noise, later, first_gain)
     reasons = []
     if not dbic < 0:
         reasons.append(f"BIC does not improve (ΔBIC = {dbic:+.1f})")
-    if not gain > need:
-        reasons.append(f"validation ESR gain {gain:.3g} % is within the noise band ({need:.3g} %)")
+    if not gain > need_:
+        reasons.append(f"validation ESR gain {gain:.3g} % is within the noise band ({need_:.3g} %)")
     est = dict(zip(fitres["names"], fitres["estimates"]))
     se = dict(zip(fitres["names"], fitres["stderr"]))
     plausible_any = False
@@ -68,5 +75,5 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
     if not plausible_any:
         vals = ", ".join(f"{p.name} = {est[p.name]:.3g}" for p in cand.params if p.primary)
         reasons.append(f"no new parameter in its plausible range ({vals})")
-    return {"delta_bic": dbic, "validation_gain": gain, "noise_band": need, "passed": not reasons,
+    return {"delta_bic": dbic, "validation_gain": gain, "noise_band": need_, "passed": not reasons,
             "reasons": reasons}

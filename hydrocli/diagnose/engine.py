@@ -1,27 +1,38 @@
-"""``diagnose``: from a mismatch to the missing physics (DESIGN.md, "Diagnosis").
+"""``diagnose``: from a mismatch to the missing physics (DESIGN.md, "Diagnosis"), as a
+pipeline of small typed steps:
 
-1. re-identify the base model (+ pressure-sensor nuisance lags) on the training data;
-2. test the residual: whiteness, independence from the inputs, per-regime statistics,
-   spectrum (:mod:`.locate`), equation errors (:mod:`.equations`);
-3. build the candidate catalogue for THIS machine (:mod:`.candidates`), screen every
-   candidate with a score test on the output residual (:mod:`.workers`, :mod:`.stats`);
-4. re-identify the best few with the candidate added (parallel over ``jobs``);
-5. accept the best candidate that passes BIC, validation-beyond-noise and plausibility
-   (:mod:`.accept`); repeat up to ``max_effects``; otherwise the verdict is ``none``.
+1. :func:`prepare` — the machine with its measurement model (pressure-sensor lags) and
+   nuisance parameters (valve spool dynamics) free, the experiments, the noise floors;
+2. :func:`baseline_step` — re-identify the base model, judge its parameters, test and locate
+   the residual (:mod:`.locate`, :mod:`.equations`), and read the effects the base fit itself
+   found (:mod:`.findings`);
+3. :func:`round_step` — build the candidate catalogue for THIS machine (:mod:`.candidates`),
+   screen every candidate with a score test (:mod:`.workers`, :mod:`.stats`), re-identify the
+   best few next to a control fit, accept the best that passes BIC, validation-beyond-noise
+   and plausibility (:mod:`.accept`); repeated up to ``max_effects``;
+4. :func:`conclude` — the verdict: ``missing_physics``, ``none``, or ``unexplained_mismatch``,
+   and the JSON-ready record.
 """
 from __future__ import annotations
 
 import time
+from contextlib import nullcontext
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 from ..errors import DataError, Problem
+from ..experiments.experiment import Experiment
 from ..experiments.experiment_file import load_all
+from ..identify.batch import executor
+from ..identify.fit import FitResult
 from ..model.builder import build_model
+from ..model.model import Model
 from ..netlist.loader import load_netlist
-from . import accept, augment, baseline, locate, residuals, stats, workers
-from .candidates import Context, catalogue
+from ..netlist.model import Netlist
+from . import accept, augment, baseline, design, findings, locate, nuisance, residuals, stats, workers
+from .candidates import Candidate, Context, catalogue
 from .equations import equation_errors
 from .measurement import sensed_states, with_pressure_sensors
 
@@ -39,20 +50,62 @@ class Settings:
     candidate_evals: int = 15
     window_s: float = 0.5
     only: tuple[str, ...] = ()   # restrict the catalogue to these effects (empty: all)
+    nuisance: bool = True        # free the valves' spool dynamics in the base fit
+    scheduler: str | None = None  # Dask scheduler address (None: local process pool)
 
 
 @dataclass
 class Stage:
     """A model state of the diagnosis: machine, model, parameters, scores."""
-    net: object
-    model: object
+    net: Netlist
+    model: Model
     p: np.ndarray
     cost: float
     free: list[str]
-    esr_train: dict
-    esr_validation: dict
-    Y_train: list
-    Y_validation: list
+    esr_train: dict[str, float]
+    esr_validation: dict[str, float]
+    Y_train: list[np.ndarray]
+    Y_validation: list[np.ndarray]
+
+
+@dataclass
+class Setup:
+    """Step 1's product: what every later step works on."""
+    machine: str
+    net: Netlist
+    model: Model
+    sensors: dict[str, str]
+    nuisance: list[nuisance.Nuisance]
+    train: list[Experiment]
+    validate: list[Experiment]
+    outputs: list[str]
+    noise: dict[str, float]          # validation noise floor, ESR %
+    noise_sigma: dict[str, float]    # the same as a standard deviation (SI)
+
+    @property
+    def noise_total(self) -> float:
+        return residuals.total(self.noise)
+
+
+@dataclass
+class Baseline:
+    """Step 2's product."""
+    stage: Stage
+    fit: FitResult
+    judged: list[dict]
+    located: dict
+    whiteness: dict
+    found: list[dict]            # effects the base fit found (source: base_fit)
+
+
+@dataclass
+class Round:
+    """Step 3's product: every candidate's row, and the accepted effect (or None)."""
+    rows: list[dict]
+    accepted: dict | None = None
+    stage: Stage | None = None
+    skipped: list[dict] = field(default_factory=list)
+    ambiguous: dict | None = None    # the accepted effect and one the data cannot tell from it
 
 
 @dataclass
@@ -64,6 +117,7 @@ class Diagnosis:
     validate: list
     outputs: list[str]
     history: list = field(default_factory=list)
+    proposed_experiments: list[str] = field(default_factory=list)   # YAML texts, one per ambiguity
 
 
 def _log(progress, msg):
@@ -104,7 +158,7 @@ def _inputs_start(model, exps) -> dict:
 def _position_ranges(model, exps, Ys) -> dict:
     out = {}
     for o, k in locate.output_quantities(model).items():
-        if k == "position":
+        if k in ("position", "angle"):
             vals = np.concatenate([e.measured[o][residuals.used(e, o)] for e in exps if o in e.measured]
                                   or [np.zeros(1)])
             for s in augment.output_symbols_expr(model, o):
@@ -112,11 +166,14 @@ def _position_ranges(model, exps, Ys) -> dict:
     return out
 
 
-def diagnose(machine, train_paths, validate_paths, settings: Settings | None = None, progress=None) -> Diagnosis:
-    st = settings or Settings()
-    t_start = time.perf_counter()
+# -- step 1 -------------------------------------------------------------------------------
+def prepare(machine, train_paths, validate_paths, settings: Settings) -> Setup:
     net0 = load_netlist(machine)
     net, sensors = with_pressure_sensors(net0)
+    found = []
+    if settings.nuisance:
+        free0 = {f"{c}.{p}" for c, d in net.components.items() for p, v in d.params.items() if v.free}
+        net, found = nuisance.with_nuisance(net, free0)
     model = build_model(net)
     train = load_data(model, net, train_paths)
     validate = load_data(model, net, validate_paths)
@@ -127,141 +184,276 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                                 hint=f"map recording columns to outputs ({', '.join(model.output_names)}) "
                                      "in the experiment files"))
     residuals.focus(train + validate, outputs)
+    noise = {o: float(np.mean([stats.noise_esr(e.measured[o]) for e in validate if o in e.measured]))
+             for o in outputs}
+    sigma = {o: float(np.sqrt(noise[o] / 100.0 * np.mean([np.nanvar(e.measured[o]) for e in validate
+                                                            if o in e.measured]))) for o in outputs}
+    return Setup(str(machine), net, model, sensors, found, train, validate, outputs, noise, sigma)
+
+
+# -- step 2 -------------------------------------------------------------------------------
+def baseline_step(su: Setup, st: Settings, progress=None) -> Baseline:
+    model, train, validate, outputs = su.model, su.train, su.validate, su.outputs
     _log(progress, f"re-identifying the base model ({len(model.free_params)} free parameters) on "
                    f"{len(train)} training experiment(s)…")
     res0 = baseline.identify(model, train, max_evals=st.base_evals)
-    base = _stage(augment.set_values(net, dict(zip(res0.names, res0.estimates))), model, res0.p, res0.cost,
+    base = _stage(augment.set_values(su.net, dict(zip(res0.names, res0.estimates))), model, res0.p, res0.cost,
                   res0.names, train, validate, outputs)
     n_eff = _n_eff(model, train, base.Y_train, outputs)
-    noise = {o: float(np.mean([stats.noise_esr(e.measured[o]) for e in validate if o in e.measured]))
-             for o in outputs}
-    noise_total = residuals.total(noise)
     judged = baseline.judge(model, res0, n_eff)
     _log(progress, f"base model: train ESR {_fmt(base.esr_train)}; validation ESR {_fmt(base.esr_validation)}")
     where = locate.locate(model, train, base.Y_train, outputs, st.window_s)
     white = locate.whiteness(model, train, base.Y_train, outputs)
     eq = {s: {k: v for k, v in d.items() if k != "error"} for s, d in equation_errors(model, train[0], base.p).items()}
     where["equations"] = eq
+    found = _base_fit_findings(su, base, judged)
+    for f in found:
+        _log(progress, f"  the base fit found {f['effect']} on '{f['component']}' "
+                       f"(validation gain {f['validation_gain']:.3g} % > {f['noise_band']:.3g} %)")
+    return Baseline(base, res0, judged, where, white, found)
 
-    stage, accepted, ranking, skipped_all, history = base, [], [], [], []
-    inputs_start = _inputs_start(model, train)
-    for round_ in range(st.max_effects):
-        ctx = Context(stage.net, set(stage.free), _position_ranges(stage.model, train, stage.Y_train),
-                      locate.output_quantities(stage.model), inputs_start)
-        cands, skipped = catalogue(ctx)
-        done = {a["key"] for a in accepted}
-        cands = [c for c in cands if c.key not in done and c.effect not in {a["effect"] for a in accepted}
-                 and (not st.only or c.effect in st.only)]
-        if round_ == 0:
-            skipped_all = [{"effect": s.effect, "reason": s.reason} for s in skipped]
-        if not cands:
-            break
-        texts = {}
-        for c in cands:
-            try:
-                texts[c.key] = augment.text_of(c.build(stage.net))
-            except Exception as exc:
-                skipped_all.append({"effect": c.effect, "reason": f"cannot augment '{c.component}': {exc}"})
-        cands = [c for c in cands if c.key in texts]
-        obj = residuals.objective(stage.model, train)
-        r = obj.residuals(stage.p)
-        n_eff = _n_eff(stage.model, train, stage.Y_train, outputs)
-        idx = [stage.model.param_index(n) for n in stage.free]
-        steps = [max(abs(stage.p[i]) * 1e-3, 1e-12) for i in idx]
-        B = residuals.sensitivities(obj, stage.p, idx, steps, r)
-        common = {"file": str(machine), "names": stage.model.param_names, "values": stage.p, "train": train,
-                  "outputs": outputs}
-        _log(progress, f"round {round_ + 1}: screening {len(cands)} candidate(s)…")
-        scr = workers.run_all(workers.screen_one, [dict(common, key=c.key, text=texts[c.key], params=c.params,
-                                                        r=r, B=B, n_eff=n_eff) for c in cands], st.jobs)
-        scores = {s["key"]: s for s in scr}
-        order = sorted(cands, key=lambda c: -scores[c.key]["dr2"])
-        n_fit = st.top if round_ == 0 else max(1, st.top - 1)   # later rounds: residual already small
-        best = [c for c in order if scores[c.key]["error"] is None][:n_fit]
-        _log(progress, "  best: " + ", ".join(f"{c.key} ({100 * scores[c.key]['dr2']:.1f} %)" for c in best))
-        control = dict(common, key=CONTROL, text=augment.text_of(stage.net), validate=validate,
-                       max_evals=st.candidate_evals, n_eff=n_eff)
-        fits = workers.run_all(workers.fit_one, [control] + [dict(common, key=c.key, text=texts[c.key],
-                                                                  validate=validate, starts=scores[c.key].get("starts"),
-                                                                  max_evals=st.candidate_evals, n_eff=n_eff)
-                                                             for c in best], st.jobs)
-        fits = {f["key"]: f for f in fits}
-        # the control is the current model re-identified with the same budget: a candidate must
-        # beat it, not just the extra optimiser iterations it got (fair comparison)
-        ctl = fits.pop(CONTROL)
-        ssr0, val0 = stage.cost, residuals.total(stage.esr_validation)
-        if ctl.get("error") is None and ctl["cost"] < ssr0:
-            ssr0, val0 = ctl["cost"], min(val0, residuals.total(ctl["esr_validation"]))
-        rows, passing = [], []
-        for c in order:
-            row = {"effect": c.effect, "component": c.component, "round": round_ + 1,
-                   "screening_explained": scores[c.key]["dr2"], "score": scores[c.key]["dr2"],
-                   "evidence": _evidence(c, scores[c.key], where)}
-            f = fits.get(c.key)
-            if f is not None and f.get("error") is None:
-                first_gain = (residuals.total(accepted[0]["esr_validation_before"])
-                              - residuals.total(accepted[0]["esr_validation_after"])) if accepted else None
-                verdict = accept.judge(c, f, ssr0, n_eff, val0, residuals.total(f["esr_validation"]), noise_total,
-                                       later=bool(accepted), first_gain=first_gain)
-                row.update(score=max(1.0 - f["cost"] / ssr0, 0.0), fitted=True, **verdict,
-                           esr_validation_after=f["esr_validation"],
-                           parameters=_new_params(c, f))
-                row["evidence"] += (f"; re-identified: train SSR −{100 * row['score']:.1f} %, ΔBIC {verdict['delta_bic']:+.0f}, "
-                                    f"validation ESR {val0:.3g} → {residuals.total(f['esr_validation']):.3g} %")
-                if verdict["passed"]:
-                    passing.append((verdict["delta_bic"], c, f))
-            elif f is not None:
-                row.update(fitted=True, passed=False, reasons=[f["error"]])
-            if scores[c.key]["error"]:
-                row["error"] = scores[c.key]["error"]
-            rows.append(row)
-        rows.sort(key=lambda d: (not d.get("passed", False), not d.get("fitted", False), -d["score"]))
-        ranking.extend(rows)
-        if not passing:
-            _log(progress, "  no candidate passes BIC + validation + plausibility")
-            break
-        passing.sort(key=lambda x: x[0])
-        dbic_best, c, f = passing[0]
-        alternatives = [{"effect": c2.effect, "component": c2.component, "delta_bic": d2,
-                         "esr_validation_after": f2["esr_validation"]}
-                        for d2, c2, f2 in passing[1:] if c2.effect != c.effect and d2 <= ALTERNATIVE * dbic_best]
-        aug = augment.reload(stage.net, texts[c.key])
-        model_c = build_model(aug)
-        p_c = workers.warm_vector(model_c, f["param_names"], f["p"])
-        free_c = list(model_c.free_params)
-        _log(progress, f"  polishing the model with {c.effect} (all {len(free_c)} free parameters)…")
-        pol = baseline.identify(model_c, train, p_start=p_c, max_evals=st.base_evals)
-        if pol.cost < f["cost"]:
-            p_c, f = pol.p, dict(f, cost=pol.cost, names=pol.names, estimates=pol.estimates.tolist(),
-                                 stderr=baseline.inflated_stderr(pol, n_eff).tolist())
-        aug = augment.set_values(aug, {n: p_c[model_c.param_index(n)] for n in free_c})
-        new = _stage(aug, model_c, p_c, f["cost"], free_c, train, validate, outputs)
-        verdict = next(rw for rw in rows if rw["effect"] == c.effect and rw["component"] == c.component)
-        accepted.append({"key": c.key, "effect": c.effect, "component": c.component,
-                         "description": c.description, "parameters": _new_params(c, f),
-                         "delta_bic": verdict["delta_bic"], "esr_train_before": stage.esr_train,
-                         "esr_train_after": new.esr_train, "esr_validation_before": stage.esr_validation,
-                         "esr_validation_after": new.esr_validation, "alternatives": alternatives})
-        _log(progress, f"  accepted {c.effect} on '{c.component}': validation ESR {_fmt(stage.esr_validation)} "
-                       f"→ {_fmt(new.esr_validation)}")
-        history.append(stage)
-        stage = new
 
-    tests = {"whiteness": white, "noise_esr_validation": noise, "n_eff": n_eff}
+def _base_fit_findings(su: Setup, base: Stage, judged: list[dict]) -> list[dict]:
+    """Effects whose parameter the file already has free from "off" and the fit moved."""
+    ctx = Context(su.net, set(), _position_ranges(su.model, su.train, base.Y_train),
+                  locate.output_quantities(su.model), _inputs_start(su.model, su.train))
+    cands, _ = catalogue(ctx)
+    offs = findings.off_values(cands)
+    val = residuals.total(base.esr_validation)
+
+    def gain_of(names):
+        p_off = base.p.copy()
+        for n in names:
+            p_off[su.model.param_index(n)] = offs[n].ref
+        Y = residuals.simulate_outputs(su.model, su.validate, p_off)
+        off_total = residuals.total(residuals.esr_table(su.model, su.validate, Y, su.outputs))
+        return off_total - val, accept.need(off_total, su.noise_total)
+    return findings.base_fit_findings(judged, offs, gain_of)
+
+
+# -- step 3 -------------------------------------------------------------------------------
+def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: Settings, pool,
+               located: dict, progress=None) -> Round:
+    train, validate, outputs = su.train, su.validate, su.outputs
+    ctx = Context(stage.net, set(stage.free), _position_ranges(stage.model, train, stage.Y_train),
+                  locate.output_quantities(stage.model), _inputs_start(su.model, train))
+    cands, skipped = catalogue(ctx)
+    done = {a["key"] for a in accepted if "key" in a}
+    cands = [c for c in cands if c.key not in done and c.effect not in {a["effect"] for a in accepted}
+             and (not st.only or c.effect in st.only)]
+    out = Round([], skipped=[{"effect": s.effect, "reason": s.reason} for s in skipped])
+    texts = {}
+    for c in cands:
+        try:
+            texts[c.key] = augment.text_of(c.build(stage.net))
+        except Exception as exc:
+            out.skipped.append({"effect": c.effect, "reason": f"cannot augment '{c.component}': {exc}"})
+    cands = [c for c in cands if c.key in texts]
+    if not cands:
+        return out
+    common = {"file": su.machine, "names": stage.model.param_names, "values": stage.p, "train": train,
+              "outputs": outputs}
+    n_eff = _n_eff(stage.model, train, stage.Y_train, outputs)
+    scores = _screen(stage, cands, texts, common, n_eff, pool, round_, progress)
+    order = sorted(cands, key=lambda c: -scores[c.key]["dr2"])
+    n_fit = st.top if round_ == 0 else max(1, st.top - 1)   # later rounds: residual already small
+    best = shortlist([c for c in order if scores[c.key]["error"] is None], scores, n_fit)
+    _log(progress, "  best: " + ", ".join(f"{c.key} ({100 * scores[c.key]['dr2']:.1f} %)" for c in best))
+    control = dict(common, key=CONTROL, text=augment.text_of(stage.net), validate=validate,
+                   max_evals=st.candidate_evals, n_eff=n_eff)
+    fits = workers.run_all(workers.fit_one, [control] + [dict(common, key=c.key, text=texts[c.key],
+                                                              validate=validate, starts=scores[c.key].get("starts"),
+                                                              max_evals=st.candidate_evals, n_eff=n_eff)
+                                                         for c in best], pool)
+    fits = {f["key"]: f for f in fits}
+    # the control is the current model re-identified with the same budget: a candidate must
+    # beat it, not just the extra optimiser iterations it got (fair comparison)
+    ctl = fits.pop(CONTROL)
+    ssr0, val0 = stage.cost, residuals.total(stage.esr_validation)
+    if ctl.get("error") is None and ctl["cost"] < ssr0:
+        ssr0, val0 = ctl["cost"], min(val0, residuals.total(ctl["esr_validation"]))
+    passing = []
+    for c in order:
+        row, passed = _judge(c, scores[c.key], fits.get(c.key), round_, ssr0, val0, n_eff, su.noise_total,
+                             accepted, located)
+        out.rows.append(row)
+        if passed:
+            passing.append((row["delta_bic"], c, fits[c.key]))
+    out.rows.sort(key=lambda d: (not d.get("passed", False), not d.get("fitted", False), -d["score"]))
+    if not passing:
+        _log(progress, "  no candidate passes BIC + validation + plausibility")
+        return out
+    passing.sort(key=lambda x: x[0])
+    dbic_best, c, f = passing[0]
+    alternatives = [{"effect": c2.effect, "component": c2.component, "delta_bic": d2,
+                     "esr_validation_after": f2["esr_validation"]}
+                    for d2, c2, f2 in passing[1:] if c2.effect != c.effect and d2 <= ALTERNATIVE * dbic_best]
+    band = accept.need(val0, su.noise_total)
+    rival = next(((d2, c2, f2) for d2, c2, f2 in passing[1:] if c2.effect != c.effect and d2 <= ALTERNATIVE * dbic_best
+                  and abs(residuals.total(f2["esr_validation"]) - residuals.total(f["esr_validation"])) < band), None)
+    if rival is not None:
+        out.ambiguous = _ambiguous(su, (dbic_best, c, f), rival, texts, progress)
+    new, f = _polish(su, stage, c, texts[c.key], f, n_eff, st, progress)
+    row = next(rw for rw in out.rows if rw["effect"] == c.effect and rw["component"] == c.component)
+    out.accepted = {"key": c.key, "effect": c.effect, "component": c.component, "source": "candidate",
+                    "description": c.description, "parameters": _new_params(c, f),
+                    "delta_bic": row["delta_bic"], "esr_train_before": stage.esr_train,
+                    "esr_train_after": new.esr_train, "esr_validation_before": stage.esr_validation,
+                    "esr_validation_after": new.esr_validation, "alternatives": alternatives}
+    out.stage = new
+    _log(progress, f"  accepted {c.effect} on '{c.component}': validation ESR {_fmt(stage.esr_validation)} "
+                   f"→ {_fmt(new.esr_validation)}")
+    return out
+
+
+RIVAL_P = 1e-3      # a balance whose best candidate's score test is significant at this level …
+RIVAL_SHARE = 1 / 3  # … and explains at least a third of what the top candidate explains is fitted too
+
+
+def shortlist(order: list[Candidate], scores: dict, n_fit: int) -> list[Candidate]:
+    """The candidates to re-identify: the ``n_fit`` best by score, plus the best candidate of
+    measurement) that competes: its score test is significant (p < ``RIVAL_P``) and it explains
+    at least ``RIVAL_SHARE`` of what the top candidate explains. Effects that act in
+    different balances can mimic each other over the conditions recorded (air in the chamber
+    against a compliant mount, a line against a sensor lag); a screening score alone, a
+    linearisation at one probe value, must not decide between them — the fits do."""
+    picked = list(order[:n_fit])
+    if not order:
+        return picked
+    top = scores[order[0].key]["dr2"]
+    seen = {c.equation for c in picked}
+    for c in order[n_fit:]:
+        if (c.equation not in seen and scores[c.key]["p_value"] < RIVAL_P
+                and scores[c.key]["dr2"] >= RIVAL_SHARE * top):
+            picked.append(c)
+            seen.add(c.equation)
+    return picked
+
+
+def _screen(stage: Stage, cands: list[Candidate], texts: dict, common: dict, n_eff: float, pool, round_: int,
+            progress) -> dict:
+    """Score test of every candidate against the current residual."""
+    obj = residuals.objective(stage.model, common["train"])
+    r = obj.residuals(stage.p)
+    idx = [stage.model.param_index(n) for n in stage.free]
+    steps = [max(abs(stage.p[i]) * 1e-3, 1e-12) for i in idx]
+    B = residuals.sensitivities(obj, stage.p, idx, steps, r)
+    _log(progress, f"round {round_ + 1}: screening {len(cands)} candidate(s)…")
+    scr = workers.run_all(workers.screen_one, [dict(common, key=c.key, text=texts[c.key], params=c.params,
+                                                    r=r, B=B, n_eff=n_eff) for c in cands], pool)
+    return {s["key"]: s for s in scr}
+
+
+def _judge(c: Candidate, score: dict, f: dict | None, round_: int, ssr0: float, val0: float, n_eff: float,
+           noise_total: float, accepted: list[dict], where: dict) -> tuple[dict, bool]:
+    row = {"effect": c.effect, "component": c.component, "round": round_ + 1,
+           "screening_explained": score["dr2"], "score": score["dr2"], "evidence": _evidence(c, score, where)}
+    passed = False
+    if f is not None and f.get("error") is None:
+        cand_acc = [a for a in accepted if a.get("source") == "candidate"]
+        first_gain = (residuals.total(cand_acc[0]["esr_validation_before"])
+                      - residuals.total(cand_acc[0]["esr_validation_after"])) if cand_acc else None
+        verdict = accept.judge(c, f, ssr0, n_eff, val0, residuals.total(f["esr_validation"]), noise_total,
+                               later=bool(cand_acc), first_gain=first_gain)
+        row.update(score=max(1.0 - f["cost"] / ssr0, 0.0), fitted=True, **verdict,
+                   esr_validation_after=f["esr_validation"], parameters=_new_params(c, f))
+        row["evidence"] += (f"; re-identified: train SSR −{100 * row['score']:.1f} %, ΔBIC {verdict['delta_bic']:+.0f}, "
+                            f"validation ESR {val0:.3g} → {residuals.total(f['esr_validation']):.3g} %")
+        passed = verdict["passed"]
+    elif f is not None:
+        row.update(fitted=True, passed=False, reasons=[f["error"]])
+    if score["error"]:
+        row["error"] = score["error"]
+    return row, passed
+
+
+def _ambiguous(su: Setup, win, rival, texts: dict, progress) -> dict:
+    """Two candidates the data cannot tell apart, and the test that would (:mod:`.design`)."""
+    import tempfile
+    models = []
+    for d, c, f in (win, rival):
+        m = workers.model_from_text(texts[c.key], su.machine)
+        models.append((c.effect, m, workers.warm_vector(m, f["param_names"], f["p"])))
+    _log(progress, f"  {win[1].effect} and {rival[1].effect} fit alike: designing a test that separates them…")
+    with tempfile.TemporaryDirectory() as tmp:
+        prop = design.propose(models[0], models[1], su.net, su.train, su.noise_sigma, Path(tmp),
+                              Path(su.machine).stem)
+    entry = {"effects": [win[1].effect, rival[1].effect], "components": [win[1].component, rival[1].component],
+             "delta_bic": [win[0], rival[0]],
+             "esr_validation_after": [win[2]["esr_validation"], rival[2]["esr_validation"]]}
+    if prop is not None:
+        entry.update(proposed_experiment={k: v for k, v in prop.items() if k != "text"},
+                     proposed_experiment_text=prop["text"])
+    return entry
+
+
+def _polish(su: Setup, stage: Stage, c: Candidate, text: str, f: dict, n_eff: float, st: Settings, progress):
+    """The accepted model re-identified with all its parameters free."""
+    aug = augment.reload(stage.net, text)
+    model_c = build_model(aug)
+    p_c = workers.warm_vector(model_c, f["param_names"], f["p"])
+    free_c = list(model_c.free_params)
+    _log(progress, f"  polishing the model with {c.effect} (all {len(free_c)} free parameters)…")
+    pol = baseline.identify(model_c, su.train, p_start=p_c, max_evals=st.base_evals)
+    if pol.cost < f["cost"]:
+        p_c, f = pol.p, dict(f, cost=pol.cost, names=pol.names, estimates=pol.estimates.tolist(),
+                             stderr=baseline.inflated_stderr(pol, n_eff).tolist())
+    aug = augment.set_values(aug, {n: p_c[model_c.param_index(n)] for n in free_c})
+    return _stage(aug, model_c, p_c, f["cost"], free_c, su.train, su.validate, su.outputs), f
+
+
+# -- step 4 -------------------------------------------------------------------------------
+def conclude(su: Setup, b: Baseline, final: Stage, accepted: list[dict], ranking: list[dict], skipped: list[dict],
+             train_paths, validate_paths, t_start: float) -> dict:
+    effects = [a["effect"] for a in accepted]
+    mismatch = None if effects else findings.unexplained(final.esr_validation, su.noise, b.located)
+    verdict = "missing_physics" if effects else ("unexplained_mismatch" if mismatch else "none")
+    n_eff = _n_eff(su.model, su.train, b.stage.Y_train, su.outputs)
     data = {
-        "machine": str(machine), "train": [str(p) for p in train_paths], "validate": [str(p) for p in validate_paths],
-        "verdict": "missing_physics" if accepted else "none",
-        "effects": [a["effect"] for a in accepted] or ["none"],
-        "located": where, "tests": tests,
-        "esr_train_base": base.esr_train, "esr_validation_base": base.esr_validation,
-        "esr_train_final": stage.esr_train, "esr_validation_final": stage.esr_validation,
-        "base_parameters": judged,
-        "measurement_model": {s: {"sensed_node": n, **_param(judged, f"{s}.tau")} for s, n in sensors.items()},
-        "ranking": ranking, "skipped": skipped_all,
+        "machine": su.machine, "train": [str(p) for p in train_paths], "validate": [str(p) for p in validate_paths],
+        "verdict": verdict,
+        "effects": effects or ["none"],
+        "located": b.located,
+        "tests": {"whiteness": b.whiteness, "noise_esr_validation": su.noise, "n_eff": n_eff},
+        "esr_train_base": b.stage.esr_train, "esr_validation_base": b.stage.esr_validation,
+        "esr_train_final": final.esr_train, "esr_validation_final": final.esr_validation,
+        "base_parameters": b.judged,
+        "measurement_model": {s: {"sensed_node": n, **_param(b.judged, f"{s}.tau")} for s, n in su.sensors.items()},
+        "nuisance_parameters": nuisance.report(su.nuisance, b.judged),
+        "ranking": ranking, "skipped": skipped,
         "accepted": [{k: v for k, v in a.items() if k != "key"} for a in accepted],
         "runtime_s": time.perf_counter() - t_start,
     }
-    return Diagnosis(data, base, stage, train, validate, outputs, history)
+    if mismatch:
+        data["unexplained"] = mismatch
+    return data
+
+
+def diagnose(machine, train_paths, validate_paths, settings: Settings | None = None, progress=None) -> Diagnosis:
+    st = settings or Settings()
+    t_start = time.perf_counter()
+    su = prepare(machine, train_paths, validate_paths, st)
+    b = baseline_step(su, st, progress)
+    stage, accepted, ranking, skipped, history, ambiguous = b.stage, list(b.found), [], [], [], []
+    parallel = st.jobs > 1 or st.scheduler
+    with (executor(st.jobs, st.scheduler) if parallel else nullcontext(None)) as pool:
+        for round_ in range(st.max_effects):
+            rnd = round_step(su, stage, accepted, round_, st, pool, b.located, progress)
+            if round_ == 0:
+                skipped = rnd.skipped
+            ranking.extend(rnd.rows)
+            if rnd.ambiguous:
+                ambiguous.append(rnd.ambiguous)
+            if rnd.accepted is None:
+                break
+            accepted.append(rnd.accepted)
+            history.append(stage)
+            stage = rnd.stage
+    data = conclude(su, b, stage, accepted, ranking, skipped, train_paths, validate_paths, t_start)
+    if ambiguous:
+        data["ambiguous"] = [{k: v for k, v in a.items() if k != "proposed_experiment_text"} for a in ambiguous]
+    return Diagnosis(data, b.stage, stage, su.train, su.validate, su.outputs, history,
+                     [a.get("proposed_experiment_text", "") for a in ambiguous])
 
 
 def _param(judged, name):

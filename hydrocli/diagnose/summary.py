@@ -19,8 +19,34 @@ def _plain(o):
     raise TypeError(f"not JSON serialisable: {type(o)}")
 
 
+def _finite(o):
+    """NaN and ±inf as null: diagnosis.json must be strict JSON."""
+    if isinstance(o, float) and not np.isfinite(o):
+        return None
+    if isinstance(o, dict):
+        return {k: _finite(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [_finite(v) for v in o]
+    return o
+
+
 def write_json(diag, path: Path) -> None:
-    Y.write_atomic(path, json.dumps(diag.data, indent=1, default=_plain, allow_nan=True))
+    data = json.loads(json.dumps(diag.data, default=_plain, allow_nan=True))
+    Y.write_atomic(path, json.dumps(_finite(data), indent=1, allow_nan=False))
+
+
+def write_proposals(diag, out_dir: Path) -> list[Path]:
+    """Each proposed discriminating experiment as ``proposed_experiment_N.yaml`` (named in
+    diagnosis.json's ``ambiguous`` entries)."""
+    paths = []
+    for i, (amb, text) in enumerate(zip(diag.data.get("ambiguous", []), diag.proposed_experiments), 1):
+        if not text:
+            continue
+        path = Path(out_dir) / f"proposed_experiment_{i}.yaml"
+        Y.write_atomic(path, text)
+        amb.setdefault("proposed_experiment", {})["file"] = path.name
+        paths.append(path)
+    return paths
 
 
 def write_augmented(diag, path: Path) -> None:
@@ -56,8 +82,20 @@ def console_summary(diag) -> str:
         if "tau_s" in info:
             lines.append(f"Pressure sensor on '{info['sensed_node']}': lag {1e3 * info['tau_s']:.2f} ms "
                          "(measurement model, not counted as an effect).")
+    for n, info in d.get("nuisance_parameters", {}).items():
+        if info.get("at_bound") or abs(info["change_percent"]) > 10:
+            lines.append(f"Nuisance parameter {n}: {info['value']:.3g} against the file's {info['file_value']:.3g} "
+                         f"({info['change_percent']:+.0f} %" + (f", at its {info['at_bound']} bound" if info.get("at_bound")
+                                                              else "") + "): consider correcting the file.")
     if d["accepted"]:
         for a in d["accepted"]:
+            if a.get("source") == "base_fit":
+                pars = ", ".join(f"{p['name']} = {p['value']:.3g} ± {p['stderr']:.2g} (file: {p['file_value']:.3g})"
+                                 for p in a["parameters"])
+                lines.append(f"{a['effect'].replace('_', ' ').capitalize()} on '{a['component']}' is present: the base "
+                             f"fit found it ({pars}); switching it off costs {a['validation_gain']:.3g} % validation "
+                             f"ESR (noise band {a['noise_band']:.3g} %).")
+                continue
             o = max(a["esr_validation_before"], key=lambda k: a["esr_validation_before"][k]
                     - a["esr_validation_after"][k])
             pars = ", ".join(f"{p['name']} = {p['value']:.3g} ± {p['stderr']:.2g}" for p in a["parameters"])
@@ -68,7 +106,24 @@ def console_summary(diag) -> str:
             for alt in a.get("alternatives", []):
                 lines.append(f"  Nearly as good: {alt['effect'].replace('_', ' ')} on '{alt['component']}' "
                              f"(ΔBIC {alt['delta_bic']:+.0f}); these data barely tell the two apart.")
-    else:
+    for amb in d.get("ambiguous", []):
+        a, b = amb["effects"]
+        prop = amb.get("proposed_experiment")
+        lines.append(f"Ambiguous: {a.replace('_', ' ')} and {b.replace('_', ' ')} explain these data about equally "
+                     f"well (ΔBIC {amb['delta_bic'][0]:+.0f} against {amb['delta_bic'][1]:+.0f}).")
+        if prop:
+            z = ", ".join(f"{o} {v:.1f} σ" for o, v in sorted(prop["z"].items(), key=lambda kv: -kv[1])[:3])
+            lines.append(f"  A test that separates them: {prop['description']} ({prop.get('file', '')}); predicted "
+                         f"difference between the two models: {z}. Record it and diagnose again with it added.")
+    if not d["accepted"] and d["verdict"] == "unexplained_mismatch":
+        u = d.get("unexplained", {})
+        outs = ", ".join(f"{o} {v['esr_validation']:.3g} % (noise {v['noise_floor']:.2g} %)"
+                         for o, v in u.get("outputs", {}).items())
+        regs = ", ".join(r["regime"] for r in u.get("regimes", []))
+        lines.append(f"Unexplained mismatch: no candidate passes, yet the validation error stays above the noise in "
+                     f"{outs}" + (f", concentrated in {regs}" if regs else "") + ". The model misses something the "
+                     "catalogue cannot express (or a fixed parameter is far off).")
+    elif not d["accepted"]:
         best = d["ranking"][0] if d["ranking"] else None
         tail = f" (best candidate {best['effect']}: {'; '.join(best.get('reasons', [])) or 'not re-identified'})" \
             if best else ""

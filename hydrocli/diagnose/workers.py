@@ -33,13 +33,16 @@ def screen_one(job: dict) -> dict:
         for prm in job["params"]:
             p[model.param_index(prm.name)] = prm.start
         r0 = obj.residuals(p)
-        idx = [model.param_index(prm.name) for prm in job["params"]]
-        steps = [prm.probe - prm.start for prm in job["params"]]
+        # the signature: secants of the parameters that have one (a shape companion probed at its
+        # start value only shapes the effect once the amount is there)
+        probed = [prm for prm in job["params"] if prm.probe != prm.start]
+        idx = [model.param_index(prm.name) for prm in probed]
+        steps = [prm.probe - prm.start for prm in probed]
         S = residuals.sensitivities(obj, p, idx, steps, r0)
         res = stats.screen(job["r"], S, job["B"], job["n_eff"])
-        step = [prm.start - c for prm, c in zip(job["params"], res["coef"])]   # Gauss–Newton step: r ≈ S·coef
+        step = {prm.name: prm.start - c for prm, c in zip(probed, res["coef"])}   # Gauss–Newton step: r ≈ S·coef
         starts = [{prm.name: prm.start for prm in job["params"]}, {prm.name: prm.probe for prm in job["params"]},
-                  {prm.name: float(np.clip(v, *_inner(prm.bounds))) for prm, v in zip(job["params"], step)}]
+                  {prm.name: float(np.clip(step.get(prm.name, prm.start), *_inner(prm.bounds))) for prm in job["params"]}]
         starts += _log_grid(job["params"])
         return {"key": job["key"], "dr2": res["dr2"], "t": res["t"].tolist(), "p_value": res["p"], "error": None,
                 "starts": starts}
@@ -103,9 +106,11 @@ def fit_one(job: dict) -> dict:
         return {"key": job["key"], "error": f"{type(exc).__name__}: {exc}"}
 
 
-def run_all(fn, jobs: list[dict], n_jobs: int) -> list[dict]:
-    if n_jobs <= 1 or len(jobs) <= 1:
+def run_all(fn, jobs: list[dict], pool=None) -> list[dict]:
+    """``fn`` over ``jobs`` on the diagnosis's executor (identify's: a process pool, or a Dask
+    client when a scheduler was named), in this process when there is none."""
+    if pool is None or len(jobs) <= 1:
         return [fn(j) for j in jobs]
-    from concurrent.futures import ProcessPoolExecutor
-    with ProcessPoolExecutor(max_workers=n_jobs) as pool:
-        return list(pool.map(fn, jobs))
+    if hasattr(pool, "gather"):          # dask.distributed.Client
+        return pool.gather(pool.map(fn, jobs, pure=False))
+    return list(pool.map(fn, jobs))

@@ -6,13 +6,16 @@ symmetric valve."""
 from __future__ import annotations
 
 from ..base import Param
-from ..hydraulic.valve import Valve43
+from ..hydraulic.valve import VALVE_ROLE, Valve43
 from ..registry import register
+from .. import roles as RL
+from ..roles import role
 
 
 @register
 class Valve43Edges(Valve43):
     type = "valve_4_3_edges"
+    roles = (role(RL.METERING_VALVE, dict(VALVE_ROLE.ports), **{k: v for k, v in VALVE_ROLE.params}, edge_gains=("g_PA", "g_BT", "g_PB", "g_AT")),)
     family = "effects"
     description = "4/3 proportional valve with one flow gain per metering edge (valve asymmetry)"
     parameters = Valve43.parameters + (

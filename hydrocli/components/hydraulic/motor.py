@@ -4,6 +4,8 @@ from __future__ import annotations
 from ..base import Component, H, Param, Port, R, VariableSpec
 from ..registry import register
 from .fluid import effective_bulk_modulus
+from .. import roles as RL
+from ..roles import role
 
 
 @register
@@ -16,6 +18,7 @@ class HydraulicMotor(Component):
     separate ``gearbox`` component."""
 
     type = "hydraulic_motor"
+    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_m"),)
     family = "hydraulic"
     description = "Fixed-displacement hydraulic motor with internal and external leakage"
     source = "seed 002 Fig. 3, eqs. 5, 8, 9"
@@ -66,6 +69,7 @@ class VaneActuator(Component):
     capacitances (V_c + V_p ± D_v·θ)/β (eqs. 9–10)."""
 
     type = "vane_actuator"
+    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_v", internal_leakage="R_v"),)
     family = "hydraulic"
     description = "Rotary vane actuator with cross-port leakage and chamber compressibility"
     source = "seed 001 eqs. 9–10, 12–13, 20"

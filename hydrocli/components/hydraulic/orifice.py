@@ -5,6 +5,8 @@ from ...model import expr as E
 from ..base import Component, H, Param, Port, VariableSpec
 from ..registry import register
 from ..two_port import across_drop, branch
+from .. import roles as RL
+from ..roles import role
 
 
 @register
@@ -14,6 +16,7 @@ class Orifice(Component):
     below dp_lam so the derivative stays finite at dp = 0."""
 
     type = "orifice"
+    roles = (role(RL.RESTRICTION, {"a": "A", "b": "B"}, conductance="Kv"),)
     family = "hydraulic"
     description = "Fixed turbulent orifice with a smooth laminar transition"
     source = "seed 004 eq. 3; seed 000 eq. 6"
@@ -33,6 +36,7 @@ class LaminarResistance(Component):
     """q = (p_A − p_B)/R: laminar leakage or a short laminar line (seed 002 eqs. 8–9)."""
 
     type = "laminar_resistance"
+    roles = (role(RL.LAMINAR_RESTRICTION, {"a": "A", "b": "B"}, resistance="R"),)
     family = "hydraulic"
     description = "Linear (laminar) hydraulic resistance, e.g. a leakage path"
     source = "seed 002 eqs. 8–9 (R_m, R_ex); seed 004 eqs. 4–5 (c = 1/R)"

@@ -7,6 +7,8 @@ from ..dynamics import first_order
 from ..registry import register
 from .hysteresis import ja_slope
 from .valve import edge_opening
+from .. import roles as RL
+from ..roles import role
 
 
 @register
@@ -26,6 +28,8 @@ class SuspensionServovalve(Component):
     """
 
     type = "servovalve_jet"
+    roles = (role(RL.METERING_VALVE, {"supply": "P", "tank": "T", "work_a": "A", "work_b": "B", "command": "cmd"},
+                  flow_gain=("Kv_A", "Kv_B"), edge_leak="G_leak"),)
     family = "hydraulic"
     description = "Suspension/jet-pipe servovalve: Jiles–Atherton hysteresis, 2nd-order tip, asymmetric ports"
     source = "seed 001 eqs. 1–6, 16–18"

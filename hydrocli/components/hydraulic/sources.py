@@ -4,6 +4,8 @@ from __future__ import annotations
 from ..base import Component, H, Param, Port, S, VariableSpec
 from ..registry import register
 from ..two_port import signal_or_param
+from .. import roles as RL
+from ..roles import role
 
 
 @register
@@ -11,6 +13,7 @@ class Tank(Component):
     """Reservoir: imposes the tank pressure on its node (absolute pressure)."""
 
     type = "tank"
+    roles = (role(RL.TANK, {"node": "T"}),)
     family = "hydraulic"
     description = "Reservoir at constant (absolute) pressure"
     source = "seed 004 §III.A (P_d)"
@@ -28,6 +31,7 @@ class PressureSource(Component):
     """Ideal pressure source: the constant ``p`` or, when ``ref`` is connected, that signal."""
 
     type = "pressure_source"
+    roles = (role(RL.PRESSURE_SOURCE, {"out": "P", "reference": "ref"}, pressure="p"),)
     family = "hydraulic"
     description = "Ideal pressure source (constant, or following a signal such as a recorded supply pressure)"
     source = "seed 004 §III.A (P_s)"

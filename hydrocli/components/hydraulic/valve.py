@@ -9,6 +9,8 @@ from ...model import expr as E
 from ..base import Component, H, Param, Port, S, StateSpec, VariableSpec
 from ..dynamics import rate_limited, second_order, first_order
 from ..registry import register
+from .. import roles as RL
+from ..roles import role
 
 
 def edge_opening(x, overlap, eps):
@@ -100,6 +102,12 @@ def stamp_four_edges(c, q_pa, q_bt, q_pb, q_at):
     c.through("T", -(q_bt + q_at))
 
 
+VALVE_ROLE = role(RL.METERING_VALVE, {"supply": "P", "tank": "T", "work_a": "A", "work_b": "B", "command": "cmd"},
+                   flow_gain="Kv", direction_ratio="Kv_neg_ratio",
+                   overlaps=("overlap_PA", "overlap_BT", "overlap_PB", "overlap_AT"), edge_leak="G_leak",
+                   spool_dynamics=("tau", "s_max"))
+
+
 @register
 class Valve43(Component):
     """4/3 proportional valve, seed 004 §III.A and seed 000 §4.1.
@@ -113,6 +121,7 @@ class Valve43(Component):
     """
 
     type = "valve_4_3"
+    roles = (VALVE_ROLE,)
     family = "hydraulic"
     description = "4/3 proportional valve: rate limit, spool lag, four edges with overlap, leakage"
     source = "seed 004 eqs. 1–3 and Table I; seed 000 §4.1 eqs. 6–9, Fig. 8"

@@ -6,6 +6,8 @@ from ..base import Component, Param, VariableSpec
 from ..registry import register
 from .valve import (EDGE_PARAMS, FLOW_PARAMS, SPOOL_PARAMS, SPOOL_STATES, VALVE_PORTS, VALVE_VARS,
                     edge_flow, spool_position, stamp_four_edges)
+from .. import roles as RL
+from ..roles import role
 
 
 def smooth_clamp(x, lo_width, eps):
@@ -41,6 +43,7 @@ class ValvePcLs(Component):
     """
 
     type = "valve_pc_ls"
+    roles = (role(RL.METERING_VALVE, {"supply": "P", "tank": "T", "work_a": "A", "work_b": "B", "command": "cmd"}, flow_gain="Kv", direction_ratio="Kv_neg_ratio", overlaps=("overlap_PA", "overlap_BT", "overlap_PB", "overlap_AT"), edge_leak="G_leak", spool_dynamics=("tau", "s_max")),)
     family = "hydraulic"
     description = "Pressure-compensated load-sensing DCV (compensator holds p0 across the meter-in edge)"
     source = "seed 000 §4.1 eqs. 6–11, Fig. 7–8, Table 4"

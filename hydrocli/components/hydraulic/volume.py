@@ -4,6 +4,8 @@ from __future__ import annotations
 from ..base import Component, H, Param, Port
 from ..registry import register
 from .fluid import AIR_PARAMS, cavitation_floor, oil_bulk_modulus
+from .. import roles as RL
+from ..roles import role
 
 
 @register
@@ -11,6 +13,7 @@ class Volume(Component):
     """C = V/β_e on its node, so that C·dp/dt = Σq (seed 004 eqs. 4–7 without the piston term)."""
 
     type = "volume"
+    roles = (role(RL.VOLUME, {"node": "P"}, volume="V", air="air"),)
     family = "hydraulic"
     description = "Lumped oil volume (capacitance V/β) on a node"
     source = "seed 004 eqs. 6–7; seed 002 §3 (fluid capacitance)"

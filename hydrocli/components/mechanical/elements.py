@@ -4,6 +4,8 @@ from __future__ import annotations
 from ..base import Component, Param, Port, S, StateSpec, T, VariableSpec
 from ..registry import register
 from ..two_port import across_drop, branch, signal_or_param
+from .. import roles as RL
+from ..roles import role
 
 
 @register
@@ -12,6 +14,7 @@ class Mass(Component):
     on an inclined or vertical axis) acts in +x."""
 
     type = "mass"
+    roles = (role(RL.LOAD, {"node": "m"}, inertia="m"),)
     family = "mechanical"
     description = "Point mass on a translational node (with an optional constant force such as weight)"
     source = "seed 004 eq. 8"
@@ -36,6 +39,7 @@ class Spring(Component):
     (the through variable of an inductive element, linear-graph convention)."""
 
     type = "spring"
+    roles = (role(RL.SPRING, {"a": "a", "b": "b"}, stiffness="k"),)
     family = "mechanical"
     description = "Linear spring (force as state)"
     source = "linear-graph inductive element (seed 002 §3); seed 000 eq. 2"
@@ -57,6 +61,7 @@ class Damper(Component):
     """Viscous damper F = c·(v_a − v_b) (seed 002: B_bm, B_sk)."""
 
     type = "damper"
+    roles = (role(RL.DAMPER, {"a": "a", "b": "b"}, damping="c"),)
     family = "mechanical"
     description = "Linear viscous damper"
     source = "seed 004 eq. 9; seed 002 §4 (B)"

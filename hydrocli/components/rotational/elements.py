@@ -7,6 +7,8 @@ from ..base import Component, Param, Port, R, S, StateSpec, VariableSpec
 from ..mechanical.friction import friction_force
 from ..registry import register
 from ..two_port import across_drop, branch, signal_or_param
+from .. import roles as RL
+from ..roles import role
 
 
 @register
@@ -14,6 +16,7 @@ class Inertia(Component):
     """J·dω/dt = Στ on its node (J_v, J_l of seed 001 eqs. 14–15); optional constant torque."""
 
     type = "inertia"
+    roles = (role(RL.LOAD, {"node": "r"}, inertia="J"),)
     family = "rotational"
     description = "Rotary inertia on a rotational node"
     source = "seed 001 eqs. 14–15 (J_v, J_l)"
@@ -38,6 +41,7 @@ class Shaft(Component):
     measured, §4.2.2)."""
 
     type = "shaft"
+    roles = (role(RL.SPRING, {"a": "a", "b": "b"}, stiffness="k"),)
     family = "rotational"
     description = "Torsion spring-damper shaft (spring torque as state)"
     source = "seed 001 eqs. 14–15, eq. 19"
@@ -62,6 +66,7 @@ class RotaryDamper(Component):
     """Viscous rotary damper τ = b·(ω_a − ω_b) (b_vn, b_l of seed 001; B_sw of seed 002)."""
 
     type = "rotary_damper"
+    roles = (role(RL.DAMPER, {"a": "a", "b": "b"}, damping="b"),)
     family = "rotational"
     description = "Linear viscous rotary damper"
     source = "seed 001 eqs. 14–15; seed 002 §3d"
@@ -116,6 +121,7 @@ class RotaryFriction(Component):
     the translational ``friction``, seed 004 eqs. 9–11)."""
 
     type = "rotary_friction"
+    roles = (role(RL.FRICTION, {"a": "a", "b": "b"}, viscous="b", coulomb="tau_c", stribeck="tau_s"),)
     family = "rotational"
     description = "Coulomb/viscous/Stribeck friction on a rotational node (vane seals, load bearing)"
     source = "seed 001 eqs. 14–15 (τ_coul); seed 004 eqs. 9–11"

@@ -5,8 +5,10 @@ A :class:`Candidate` is a named netlist augmentation: the effect (a name from DE
 vocabulary), the component it attaches to, its new parameters (start value = effect off or
 negligible, identification bounds, plausibility range, a probe value for the screening
 signature) and ``build(net) -> net`` that returns the machine with the effect modelled and
-its parameters free. Families find where an effect can attach by component TYPE and graph
-connections, so the catalogue works for any machine of the library.
+its parameters free. Families find where an effect can attach by the ROLES components offer
+(:mod:`hydrocli.components.roles`: an actuator's chambers and moving node, a metering valve's
+work ports, a load on a node) and by graph connections — never by type name — so the
+catalogue works for any machine of the library, translational or rotary.
 
 The screening SIGNATURE of a candidate is computed by :mod:`hydrocli.diagnose.screen` from
 the augmented model itself: the secant sensitivity of the outputs (and of the balance
@@ -18,6 +20,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable
 
+from ...components import registry
+from ...components.base import Domain
+from ...components.roles import Role
 from ...netlist.model import Netlist
 from .. import augment as A
 
@@ -74,8 +79,42 @@ class Context:
     outputs: dict[str, str] = field(default_factory=dict)   # output → quantity ("pressure", "position", …)
     inputs_start: dict[str, float] = field(default_factory=dict)  # input → first sample (mean over training)
 
-    def of_type(self, *prefixes: str) -> list[str]:
-        return [n for n, c in self.net.components.items() if any(c.type.startswith(p) for p in prefixes)]
+    def parts(self, role: str) -> list["Part"]:
+        """Every component of the machine that offers ``role``, in file order."""
+        out = []
+        for n, c in self.net.components.items():
+            cls = registry.get(c.type)
+            r = cls.role(role) if cls is not None else None
+            if r is not None:
+                out.append(Part(n, c.type, r, dict(c.ports)))
+        return out
+
+    def parts_on(self, node: str | None, role: str, slot: str | None = None) -> list["Part"]:
+        """Components offering ``role`` connected to ``node`` (through the role's ``slot``
+        port when given)."""
+        if node is None:
+            return []
+        return [p for p in self.parts(role) if (p.node(slot) == node if slot else node in p.ports.values())]
+
+    def domain(self, node: str) -> Domain | None:
+        for comp, port in self.on_node(node):
+            spec = registry.get(self.net.components[comp].type)
+            ps = spec.port(port) if spec is not None else None
+            if ps is not None:
+                return ps.domain
+        return None
+
+    @staticmethod
+    def element(role: str, domain: Domain) -> tuple[str, Role]:
+        """The library type offering ``role`` on ``domain`` (a spring for a translational
+        node, a shaft for a rotational one): (type name, its role)."""
+        for t, cls in registry.offering(role).items():
+            r = cls.role(role)
+            slot_port = r.port("a") or r.port("node")
+            ps = cls.port(slot_port) if slot_port else None
+            if ps is not None and ps.domain == domain:
+                return t, r
+        raise KeyError(f"no component type offers '{role}' on a {domain.value} node")
 
     def on_node(self, node: str) -> list[tuple[str, str]]:
         return self.net.nodes().get(node, [])
@@ -83,6 +122,29 @@ class Context:
     def value(self, name: str) -> float:
         comp, _, p = name.rpartition(".")
         return float(self.net.components[comp].params[p].value)
+
+
+@dataclass(frozen=True)
+class Part:
+    """A component of the machine in one of its roles: names of its nodes and parameters by
+    the role's slots."""
+
+    name: str
+    type: str
+    role: Role
+    ports: dict[str, str]            # the component's port → node
+
+    def node(self, slot: str) -> str | None:
+        port = self.role.port(slot)
+        return self.ports.get(port) if port else None
+
+    def param(self, slot: str) -> str | None:
+        """Full model name (``comp.param``) of the first parameter filling ``slot``."""
+        p = self.role.param(slot)
+        return f"{self.name}.{p}" if p else None
+
+    def params(self, slot: str) -> list[str]:
+        return [f"{self.name}.{p}" for p in self.role.params_of(slot)]
 
 
 class Family:

@@ -4,8 +4,9 @@ at the valve end; seed 001 eqs. 7, 11; seed 002 §3) and a supply pressure drop 
 and a volume between the pressure source and the valve; seed 004's supply droop)."""
 from __future__ import annotations
 
+from ...components import roles as R
 from .. import augment as A
-from .base import Candidate, Context, Family, NewParam, Skipped
+from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 
 class CircuitFamily(Family):
@@ -13,24 +14,23 @@ class CircuitFamily(Family):
 
     def candidates(self, ctx: Context):
         out = []
-        for valve in ctx.of_type("valve_4_3", "valve_pc"):
-            ports = ctx.net.components[valve].ports
-            out.append(self._lines(ctx, valve, ports))
-            out.append(self._supply(ctx, valve, ports.get("P")))
+        for v in ctx.parts(R.METERING_VALVE):
+            out.append(self._lines(ctx, v))
+            out.append(self._supply(ctx, v.name, v.node("supply")))
         return out or [Skipped(e, "no directional valve in the machine") for e in self.effects]
 
     @staticmethod
-    def _lines(ctx: Context, valve: str, ports: dict[str, str]):
+    def _lines(ctx: Context, v: Part):
+        valve = v.name
         pairs = []
-        for vp in ("A", "B"):
-            node = ports.get(vp)
-            cyl = [(c, p) for c, p in ctx.on_node(node) if ctx.net.components[c].type.startswith("cylinder")]
-            if cyl:
-                pairs.append((vp, node, cyl[0]))
+        for slot in ("work_a", "work_b"):
+            node, vp = v.node(slot), v.role.port(slot)
+            if ctx.parts_on(node, R.ACTUATOR):
+                pairs.append((vp, node))
         if not pairs:
-            return Skipped("line_dynamics", f"the work ports of '{valve}' do not lead to a cylinder")
+            return Skipped("line_dynamics", f"the work ports of '{valve}' do not lead to an actuator")
         params, plan = [], []
-        for vp, node, (cyl, cport) in pairs:
+        for vp, node in pairs:
             line = A.unique_name(ctx.net, f"{valve}_line_{vp}")
             vol = A.unique_name(ctx.net, f"{valve}_port_{vp}")
             new = A.unique_name(ctx.net, f"{node}_valve")
@@ -55,9 +55,11 @@ class CircuitFamily(Family):
         starts at 30× Kv_valve (drop 0.1 %, no effect) and is probed at 1.5× (drop ~45 %)."""
         if node is None:
             return Skipped("supply_pressure_drop", f"'{valve}' has no supply port")
-        src = [c for c, _ in ctx.on_node(node) if ctx.net.components[c].type == "pressure_source"]
-        if not src:
+        srcs = ctx.parts_on(node, R.PRESSURE_SOURCE, "out")
+        if not srcs:
             return Skipped("supply_pressure_drop", f"no pressure source at the supply of '{valve}'")
+        src = [srcs[0].name]
+        out_port = srcs[0].role.port("out")
         kv = _valve_kv(ctx, valve)
         orf = A.unique_name(ctx.net, "supply_orifice")
         vol = A.unique_name(ctx.net, "supply_volume")
@@ -65,10 +67,10 @@ class CircuitFamily(Family):
         params = [NewParam(f"{orf}.Kv", 30 * kv, (0.03 * kv, 100 * kv), (0.1 * kv, 10 * kv), 1.5 * kv, True),
                   # line oil + any accumulator: an equivalent oil volume (log scale), a companion
                   NewParam(f"{vol}.V", 1e-3, (1e-5, 2e-2), (1e-5, 2e-2), 2e-3, True, primary=False)]
-        p_start = _source_pressure(ctx, src[0])
+        p_start = _source_pressure(ctx, srcs[0])
 
         def build(net):
-            net = A.connect(net, src[0], "P", new)
+            net = A.connect(net, src[0], out_port, new)
             net = A.add(net, orf, "orifice", {"A": new, "B": node})
             net = A.add(net, vol, "volume", {"P": node}, {"V": 1e-3})
             net = A.free_new(net, params)
@@ -78,22 +80,23 @@ class CircuitFamily(Family):
 
 
 def _valve_kv(ctx: Context, valve: str) -> float:
-    """The valve's flow coefficient per edge (SI), or a mid-size valve's when not readable."""
-    for name in ("Kv", "Kv_A"):
-        try:
-            return ctx.value(f"{valve}.{name}")
-        except (KeyError, TypeError, ValueError):
-            continue
-    return 5e-7
+    """The valve's flow coefficient per edge (SI, its role's ``flow_gain``), or a mid-size
+    valve's when not readable."""
+    part = next((p for p in ctx.parts(R.METERING_VALVE) if p.name == valve), None)
+    name = part.param("flow_gain") if part else None
+    try:
+        return ctx.value(name) if name else 5e-7
+    except (KeyError, TypeError, ValueError):
+        return 5e-7
 
 
-def _source_pressure(ctx: Context, src: str) -> float | None:
+def _source_pressure(ctx: Context, src: Part) -> float | None:
     """The source's pressure at the start: its input's first sample, or its parameter."""
-    ref = ctx.net.components[src].ports.get("ref")
+    ref = src.node("reference")
     if ref is not None:
         return ctx.inputs_start.get(ref)
     try:
-        return ctx.value(f"{src}.p")
+        return ctx.value(src.param("pressure"))
     except (KeyError, TypeError, ValueError):
         return None
 

@@ -1,10 +1,23 @@
-"""Friction effects on the moving node of every cylinder (seed 004 eqs. 9–11:
-viscous k_v, Coulomb k_c, Stribeck k_s·e^(−|v|/v_s); seed 000 eq. 23: seal friction
-proportional to the chamber pressures, μ_p·A_p·(p_A + p_B))."""
+"""Friction effects on the moving node of every ACTUATOR, translational or rotary (seed 004
+eqs. 9–11: viscous k_v, Coulomb k_c, Stribeck k_s·e^(−|v|/v_s); seed 000 eq. 23: seal
+friction proportional to the chamber pressures, μ_p·A_p·(p_A + p_B); seed 001 §2 for vane
+seals). The friction element is found by its FRICTION role on the moving node; when there is
+none, one of the node's domain is added (a ``friction`` on a rod, a ``rotary_friction`` on a
+shaft)."""
 from __future__ import annotations
 
+from ...components import roles as R
 from .. import augment as A
-from .base import Candidate, Context, Family, NewParam, Skipped
+from .base import Candidate, Context, Family, NewParam, Part, Skipped
+
+SEAL_PRESSURE = 2e5   # Pa: a seal force of 2 bar on the actuator's size is the plausible scale
+REF_SEAL_FORCE = 2e5 * 2.0994e-3   # N: that force on seed 004's bench, where the scales were set
+
+_FORMS = {
+    "viscous_friction": ("viscous", "viscous friction k_v·v"),
+    "coulomb_friction": ("coulomb", "Coulomb friction k_c·sign(v)"),
+    "stribeck_friction": ("stribeck", "breakaway excess k_s·e^(−|v|/v_s)·sign(v) at low speed"),
+}
 
 
 class FrictionFamily(Family):
@@ -12,90 +25,112 @@ class FrictionFamily(Family):
 
     def candidates(self, ctx: Context):
         out = []
-        cyls = ctx.of_type("cylinder")
-        if not cyls:
-            return [Skipped(e, "no cylinder rod to attach friction to") for e in self.effects]
-        for cyl in cyls:
-            decl = ctx.net.components[cyl]
-            rod = decl.ports.get("rod")
-            fr = next((c for c, port in ctx.on_node(rod) if ctx.net.components[c].type == "friction" and port == "a"),
-                      None)
-            area = self._area(ctx, cyl)
+        acts = ctx.parts(R.ACTUATOR)
+        if not acts:
+            return [Skipped(e, "no actuator to attach friction to") for e in self.effects]
+        for act in acts:
+            node = act.node("motion")
+            fmax = SEAL_PRESSURE * _size(ctx, act)
+            fr = next((f for f in ctx.parts_on(node, R.FRICTION, "a")), None)
             if fr is None:
-                fr = A.unique_name(ctx.net, f"{cyl}_friction")
-                out.extend(self._new_friction(ctx, fr, rod, cyl, area))
+                out.extend(self._new_friction(ctx, act, node, fmax))
+            else:
+                out.extend(self._existing(ctx, fr, act, fmax))
+        return out
+
+    def _existing(self, ctx: Context, fr: Part, act: Part, fmax: float):
+        out = []
+        for effect, (slot, desc) in _FORMS.items():
+            names = fr.params(slot)
+            if not names:
+                out.append(Skipped(effect, f"'{fr.name}' ({fr.type}) has no {slot} term"))
                 continue
-            out.extend(self._existing(ctx, fr, cyl, area))
+            out.append(self.parameter_candidate(ctx, effect, fr.name, _law(effect, names, fmax), "force", desc))
+        out.extend(self._pressure(ctx, fr, act, fmax))
         return out
 
-    @staticmethod
-    def _area(ctx: Context, cyl: str) -> float:
-        params = ctx.net.components[cyl].params
-        return float(params["A"].value if "A" in params else params["A_A"].value)
-
-    def _existing(self, ctx: Context, fr: str, cyl: str, area: float):
-        f = f"{fr}."
-        fmax = 2e5 * area  # a seal force of 2 bar on the piston area: the plausible scale
-        out = [
-            self.parameter_candidate(ctx, "viscous_friction", fr, _pair(f + "kv", 10.0, (0.0, 1e6), (1.0, 1e6), 5e3),
-                                     "force", "viscous friction k_v·v"),
-            self.parameter_candidate(ctx, "coulomb_friction", fr,
-                                     _pair(f + "kc", 1.0, (0.0, 20 * fmax), (0.01 * fmax, 20 * fmax), fmax),
-                                     "force", "Coulomb friction k_c·sign(v)"),
-            self.parameter_candidate(ctx, "stribeck_friction", fr,
-                                     _pair(f + "ks", 1.0, (0.0, 20 * fmax), (0.01 * fmax, 20 * fmax), fmax),
-                                     "force", "breakaway excess k_s·e^(−|v|/v_s)·sign(v) at low speed"),
-        ]
-        pa, pb = ctx.net.components[cyl].ports.get("A"), ctx.net.components[cyl].ports.get("B")
-        connect = {"pa": pa, "pb": pb}
-        out.append(self.parameter_candidate(
-            ctx, "pressure_dependent_friction", fr, [NewParam(f + "mu_p", 1e-4, (0.0, 0.2), (2e-3, 0.2), 0.02)],
-            "force", "seal friction growing with chamber pressure, μ_p·A·(p_A + p_B)·sign(v)",
-            fixed={f + "A_p": area}, connect=connect))
-        out.append(self._seal(ctx, fr, cyl, area))
+    def _pressure(self, ctx: Context, fr: Part, act: Part, fmax: float):
+        out = []
+        area = _size(ctx, act)
+        mu = fr.param("pressure")
+        if mu is not None and fr.role.port("pressure_a"):
+            connect = {fr.role.port("pressure_a"): act.node("chamber_a"), fr.role.port("pressure_b"): act.node("chamber_b")}
+            out.append(self.parameter_candidate(
+                ctx, "pressure_dependent_friction", fr.name, [NewParam(mu, 1e-4, (0.0, 0.2), (2e-3, 0.2), 0.02)],
+                "force", "seal friction growing with chamber pressure, μ_p·A·(p_A + p_B)·sign(v)",
+                fixed={fr.param("pressure_size"): area}, connect=connect))
+        seal = _seal(ctx, fr.name, act, area)
+        out.append(seal)
         return out
 
-    @staticmethod
-    def _seal(ctx: Context, fr: str, cyl: str, area: float) -> Candidate:
-        """Seal friction loaded by the pressure DIFFERENCE across the piston seal."""
-        ports = ctx.net.components[cyl].ports
-        rod = ports["rod"]
-        name = A.unique_name(ctx.net, f"{cyl}_seal_friction")
-        prm = NewParam(f"{name}.mu_d", 1e-4, (0.0, 1.0), (2e-3, 1.0), 0.05)
-        body = ports.get("body", "ground")
+    def _new_friction(self, ctx: Context, act: Part, node: str, fmax: float):
+        """No friction element yet: each friction effect adds one of the node's domain."""
+        dom = ctx.domain(node)
+        try:
+            typ, role = ctx.element(R.FRICTION, dom)
+        except KeyError as exc:
+            return [Skipped(e, str(exc)) for e in self.effects]
+        fr = A.unique_name(ctx.net, f"{act.name}_friction")
+        ref = act.node("reference") or "ground"
+        area = _size(ctx, act)
+        out = []
 
-        def build(net):
-            net = A.add(net, name, "seal_friction", {"a": rod, "b": body, "pa": ports["A"], "pb": ports["B"]},
-                        {"A_p": area})
-            return A.free(net, prm.name, prm.start, prm.bounds)
-        return Candidate("pressure_dependent_friction", fr, [prm], build, "force",
-                         "piston-seal friction growing with the pressure difference, μ_d·A·|p_A − p_B|·sign(v)",
-                         variant="dp")
-
-    def _new_friction(self, ctx: Context, fr: str, rod: str, cyl: str, area: float):
-        """No friction element yet: each friction effect adds one on the rod node."""
-        def adder(params, connect_pressures=False):
+        def adder(params, fixed=None, pressures=False):
             def build(net):
-                ports = {"a": rod, "b": "ground"}
-                if connect_pressures:
-                    d = net.components[cyl].ports
-                    ports.update(pa=d["A"], pb=d["B"])
-                extra = {"A_p": area} if connect_pressures else {}
-                net = A.add(net, fr, "friction", ports, extra)
+                ports = {role.port("a"): node, role.port("b"): ref}
+                if pressures:
+                    ports.update({role.port("pressure_a"): act.node("chamber_a"),
+                                  role.port("pressure_b"): act.node("chamber_b")})
+                net = A.add(net, fr, typ, ports, dict(fixed or {}))
                 return A.free_new(net, params)
             return build
-        fmax = 2e5 * area
-        f = f"{fr}."
-        specs = {
-            "viscous_friction": (_pair(f + "kv", 10.0, (0.0, 1e6), (1.0, 1e6), 5e3), False),
-            "coulomb_friction": (_pair(f + "kc", 1.0, (0.0, 20 * fmax), (0.01 * fmax, 20 * fmax), fmax), False),
-            "stribeck_friction": (_pair(f + "ks", 1.0, (0.0, 20 * fmax), (0.01 * fmax, 20 * fmax), fmax), False),
-            "pressure_dependent_friction": ([NewParam(f + "mu_p", 1e-4, (0.0, 0.2), (2e-3, 0.2), 0.02)], True),
-        }
-        return [Candidate(e, cyl, ps, adder(ps, pr), "force", f"{e.replace('_', ' ')} on '{rod}'")
-                for e, (ps, pr) in specs.items()]
+        for effect, (slot, desc) in _FORMS.items():
+            names = [f"{fr}.{p}" for p in role.params_of(slot)]
+            if names:
+                ps = _law(effect, names, fmax)
+                out.append(Candidate(effect, act.name, ps, adder(ps), "force", f"{desc} on '{node}'"))
+        mu = role.param("pressure")
+        if mu and role.port("pressure_a"):
+            ps = [NewParam(f"{fr}.{mu}", 1e-4, (0.0, 0.2), (2e-3, 0.2), 0.02)]
+            out.append(Candidate("pressure_dependent_friction", act.name, ps,
+                                 adder(ps, {role.param("pressure_size"): area}, True), "force",
+                                 f"seal friction growing with chamber pressure on '{node}'"))
+        else:
+            out.append(_seal(ctx, fr, act, area))
+        return out
 
 
-def _pair(prefix: str, start, bounds, plausible, probe) -> list[NewParam]:
-    """The same law for both directions of motion (``_p``: v > 0, ``_m``: v < 0)."""
-    return [NewParam(f"{prefix}_{d}", start, bounds, plausible, probe) for d in ("p", "m")]
+def _law(effect: str, names: list[str], fmax: float) -> list[NewParam]:
+    """The same law for both directions of motion when the element has two names."""
+    s = fmax / REF_SEAL_FORCE
+    if effect == "viscous_friction":
+        # coefficients scaled like the seal force (on the EHA bench: start 10 N·s/m, probe 5e3)
+        return [NewParam(n, 10.0 * s, (0.0, 1e6 * s), (1.0 * s, 1e6 * s), 5e3 * s) for n in names]
+    return [NewParam(n, 1.0 * s, (0.0, 20 * fmax), (0.01 * fmax, 20 * fmax), fmax) for n in names]
+
+
+def _seal(ctx: Context, owner: str, act: Part, area: float):
+    """Seal friction loaded by the pressure DIFFERENCE across the piston seal (translational
+    actuators: the ``seal_friction`` element)."""
+    rod = act.node("motion")
+    if ctx.domain(rod) is None or ctx.domain(rod).value != "translational":
+        return Skipped("pressure_dependent_friction", f"no pressure-loaded seal law for a rotary '{act.name}'")
+    name = A.unique_name(ctx.net, f"{act.name}_seal_friction")
+    prm = NewParam(f"{name}.mu_d", 1e-4, (0.0, 1.0), (2e-3, 1.0), 0.05)
+    body = act.node("reference") or "ground"
+
+    def build(net):
+        net = A.add(net, name, "seal_friction", {"a": rod, "b": body, "pa": act.node("chamber_a"),
+                                                 "pb": act.node("chamber_b")}, {"A_p": area})
+        return A.free(net, prm.name, prm.start, prm.bounds)
+    return Candidate("pressure_dependent_friction", owner, [prm], build, "force",
+                     "piston-seal friction growing with the pressure difference, μ_d·A·|p_A − p_B|·sign(v)",
+                     variant="dp")
+
+
+def _size(ctx: Context, act: Part) -> float:
+    name = act.param("size")
+    try:
+        return abs(ctx.value(name)) if name else 1e-3
+    except (KeyError, TypeError, ValueError):
+        return 1e-3

@@ -1,10 +1,19 @@
-"""Leakage and fluid effects of cylinders: internal (cross-piston) leakage, external
-leakage, entrained air (seed 004 eqs. 4–7; Merritt, *Hydraulic Control Systems* §3.3;
-Jelali & Kroll eq. 3.12 for the air-in-oil bulk modulus) and end stops."""
+"""Leakage and fluid effects of every ACTUATOR (cylinder, vane actuator, motor): internal
+(cross-piston/cross-vane) leakage, external leakage, entrained air (seed 004 eqs. 4–7;
+seed 001 eq. 20; Merritt, *Hydraulic Control Systems* §3.3; Jelali & Kroll eq. 3.12 for the
+air-in-oil bulk modulus) and end stops.
+
+Where the actuator's spec offers the effect as a parameter (its role's ``internal_leakage``,
+``external_leakage``, ``air`` or ``stop_*`` slots) the candidate sets it free from its "no
+effect" value; where it does not (a motor's leakage, a vane actuator's air) the candidate adds
+library elements found by role: a laminar restriction between the chambers, restrictions to
+the tank, a small air-laden volume on each chamber."""
 from __future__ import annotations
 
+from ...components import roles as R
 from .. import augment as A
-from .base import Candidate, Context, Family, NewParam, Skipped
+from ...components.base import Domain
+from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 
 class CylinderFamily(Family):
@@ -12,65 +21,147 @@ class CylinderFamily(Family):
 
     def candidates(self, ctx: Context):
         out = []
-        cyls = ctx.of_type("cylinder")
-        if not cyls:
-            return [Skipped(e, "no cylinder in the machine") for e in self.effects]
-        for cyl in cyls:
-            p = f"{cyl}."
-            ports = ctx.net.components[cyl].ports
-            il = self.parameter_candidate(
-                ctx, "internal_leakage", cyl, [NewParam(p + "c_il", 1e-13, (1e-14, 1e-9), (5e-13, 5e-10), 2e-11, True)],
-                "continuity", "laminar leakage across the piston, q = c_il·(p_A − p_B)")
-            if isinstance(il, Skipped):   # laminar law already identified: try a worn-seal orifice
-                il = _orifice(ctx, "internal_leakage", cyl, [(ports["A"], ports["B"])],
-                              "turbulent leakage across a worn piston seal (orifice A→B), on top of the laminar one")
-            out.append(il)
-            el = self.parameter_candidate(
-                ctx, "external_leakage", cyl, [NewParam(p + "c_el", 1e-14, (1e-15, 1e-9), (1e-13, 5e-10), 1e-11, True)],
-                "continuity", "laminar leakage of each chamber to drain, q = c_el·p")
-            tank = _tank_node(ctx)
-            if isinstance(el, Skipped) and tank:
-                el = _orifice(ctx, "external_leakage", cyl, [(ports["A"], tank), (ports["B"], tank)],
-                              "rod/piston seals leaking to drain through orifices (turbulent law)")
-            out.append(el)
-            out.append(self.parameter_candidate(
-                ctx, "entrained_air", cyl, [NewParam(p + "air", 1e-4, (1e-5, 0.3), (1e-3, 0.3), 0.03, True)],
-                "continuity", "undissolved air lowers the chamber stiffness at low pressure (log scale up "
-                              "to 30 %: an isentropic fit of isothermal, partly dissolving air needs more)"))
-            out.append(self._end_stop(ctx, cyl))
+        acts = ctx.parts(R.ACTUATOR)
+        if not acts:
+            return [Skipped(e, "no actuator (cylinder, motor, vane) in the machine") for e in self.effects]
+        for act in acts:
+            a, b = act.node("chamber_a"), act.node("chamber_b")
+            out.append(self._internal(ctx, act, a, b))
+            out.append(self._external(ctx, act, a, b))
+            out.append(self._air(ctx, act, a, b))
+            out.append(self._end_stop(ctx, act))
         return out
 
-    def _end_stop(self, ctx: Context, cyl: str):
-        node = ctx.net.components[cyl].ports.get("rod")
+    def _internal(self, ctx: Context, act: Part, a: str, b: str):
+        name = act.param("internal_leakage")
+        if name is not None:
+            il = self.parameter_candidate(
+                ctx, "internal_leakage", act.name, [NewParam(name, 1e-13, (1e-14, 1e-9), (5e-13, 5e-10), 2e-11, True)],
+                "continuity", "laminar leakage across the piston/vane, q = c_il·(p_A − p_B)")
+            if not isinstance(il, Skipped):
+                return il
+            # laminar law already identified: try a worn-seal orifice
+            return _orifice(ctx, "internal_leakage", act.name, [(a, b)],
+                            "turbulent leakage across a worn piston seal (orifice A→B), on top of the laminar one")
+        return _laminar(ctx, "internal_leakage", act.name, [(a, b)], "laminar cross-port leakage A→B")
+
+    def _external(self, ctx: Context, act: Part, a: str, b: str):
+        tank = _tank_node(ctx)
+        name = act.param("external_leakage")
+        if name is not None:
+            el = self.parameter_candidate(
+                ctx, "external_leakage", act.name, [NewParam(name, 1e-14, (1e-15, 1e-9), (1e-13, 5e-10), 1e-11, True)],
+                "continuity", "laminar leakage of each chamber to drain, q = c_el·p")
+            if not isinstance(el, Skipped) or tank is None:
+                return el
+            return _orifice(ctx, "external_leakage", act.name, [(a, tank), (b, tank)],
+                            "rod/piston seals leaking to drain through orifices (turbulent law)")
+        if tank is None:
+            return Skipped("external_leakage", f"no tank to drain '{act.name}' to")
+        return _laminar(ctx, "external_leakage", act.name, [(a, tank), (b, tank)],
+                        "laminar leakage of each chamber to drain")
+
+    def _air(self, ctx: Context, act: Part, a: str, b: str):
+        name = act.param("air")
+        desc = ("undissolved air lowers the chamber stiffness at low pressure (log scale up to 30 %: an "
+                "isentropic fit of isothermal, partly dissolving air needs more)")
+        if name is not None:
+            # the air law's shape is identified with its amount (companions): polytropic exponent
+            # between isothermal small bubbles and isentropic, and Henry's-law dissolution
+            # (Gholizadeh, Burton & Schoenau 2011): a fixed law fits a real mixture worse than a
+            # compliant mount does, and the mount would win for the wrong reason
+            shape = []
+            if act.param("air_exponent"):
+                shape.append(NewParam(act.param("air_exponent"), 1.2, (1.0, 1.4), (1.0, 1.4), 1.2, primary=False, ref=1.2))
+            if act.param("air_dissolve"):
+                shape.append(NewParam(act.param("air_dissolve"), 5e7, (2e5, 5e7), (2e5, 5e7), 5e7, True, primary=False,
+                                      ref=5e7))
+            return self.parameter_candidate(
+                ctx, "entrained_air", act.name, [NewParam(name, 1e-4, (1e-5, 0.3), (1e-3, 0.3), 0.03, True)] + shape,
+                "continuity", desc)
+        return _air_volumes(ctx, act, [a, b], desc)
+
+    def _end_stop(self, ctx: Context, act: Part):
+        lo_n, hi_n, k_n, c_n = (act.param(s) for s in ("stop_min", "stop_max", "stop_stiffness", "stop_damping"))
+        if lo_n is None or hi_n is None or k_n is None:
+            return Skipped("end_stop", f"'{act.name}' ({act.type}) has no end-stop parameters")
+        node = act.node("motion")
         rng = ctx.position_range.get(node)
         if rng is None:
-            return Skipped("end_stop", f"no position range of '{cyl}' seen in the data")
+            return Skipped("end_stop", f"no position range of '{act.name}' seen in the data")
         lo, hi = rng
         span = max(hi - lo, 1e-3)
         # stop positions have no "off" value: judged as positions (plausible range of the value,
         # standard error against the stroke seen)
-        params = [NewParam(f"{cyl}.x_min", lo - 0.2 * span, (lo - 0.5 * span, lo + 0.02 * span),
+        params = [NewParam(lo_n, lo - 0.2 * span, (lo - 0.5 * span, lo + 0.02 * span),
                            (lo - 0.5 * span, lo + 0.02 * span), lo - 0.005 * span, scale=span),
-                  NewParam(f"{cyl}.x_max", hi + 0.2 * span, (hi - 0.02 * span, hi + 0.5 * span),
+                  NewParam(hi_n, hi + 0.2 * span, (hi - 0.02 * span, hi + 0.5 * span),
                            (hi - 0.02 * span, hi + 0.5 * span), hi + 0.005 * span, scale=span),
                   # contact stiffness identified too (log scale): a real stop (Hertz/Hunt–Crossley
                   # contact) is far from one fixed linear spring
-                  NewParam(f"{cyl}.k_stop", 1e8, (1e5, 1e11), (1e5, 1e11), 3e8, True, primary=False)]
-        return self.parameter_candidate(ctx, "end_stop", cyl, params, "force",
-                                        "stiff end stops at the stroke ends", fixed={f"{cyl}.c_stop": 1e4})
+                  NewParam(k_n, 1e8, (1e5, 1e11), (1e5, 1e11), 3e8, True, primary=False)]
+        return self.parameter_candidate(ctx, "end_stop", act.name, params, "force",
+                                        "stiff end stops at the stroke ends", fixed={c_n: 1e4} if c_n else None)
 
 
 def _tank_node(ctx: Context) -> str | None:
-    return next((c.ports["T"] for c in ctx.net.components.values() if c.type == "tank" and "T" in c.ports), None)
+    tanks = ctx.parts(R.TANK)
+    return tanks[0].node("node") if tanks else None
 
 
-def _orifice(ctx: Context, effect: str, cyl: str, paths: list[tuple[str, str]], description: str) -> Candidate:
+def _orifice(ctx: Context, effect: str, owner: str, paths: list[tuple[str, str]], description: str) -> Candidate:
     """Leakage paths as turbulent orifices (q = K·dp/(dp² + dp_t²)^¼, seed 004 eq. 3 form)."""
-    names = [A.unique_name(ctx.net, f"{cyl}_{effect}_{i + 1}") for i in range(len(paths))]
-    params = [NewParam(f"{n}.Kv", 1e-11, (1e-12, 1e-6), (3e-10, 1e-6), 1e-8, True) for n in names]
+    typ, role = ctx.element(R.RESTRICTION, Domain.HYDRAULIC)
+    names = [A.unique_name(ctx.net, f"{owner}_{effect}_{i + 1}") for i in range(len(paths))]
+    k = role.param("conductance")
+    params = [NewParam(f"{n}.{k}", 1e-11, (1e-12, 1e-6), (3e-10, 1e-6), 1e-8, True) for n in names]
 
     def build(net):
         for n, (a, b) in zip(names, paths):
-            net = A.add(net, n, "orifice", {"A": a, "B": b}, {"dp_lam": 2e5})
+            net = A.add(net, n, typ, {role.port("a"): a, role.port("b"): b}, {"dp_lam": 2e5})
         return A.free_new(net, params)
-    return Candidate(effect, cyl, params, build, "continuity", description)
+    return Candidate(effect, owner, params, build, "continuity", description, variant="orifice")
+
+
+def _laminar(ctx: Context, effect: str, owner: str, paths: list[tuple[str, str]], description: str) -> Candidate:
+    """Leakage paths as laminar restrictions Δp = R·q, identified as a resistance on a log
+    scale (started where no flow passes: R = 1e16 Pa·s/m³, i.e. a conductance of 1e-16)."""
+    typ, role = ctx.element(R.LAMINAR_RESTRICTION, Domain.HYDRAULIC)
+    names = [A.unique_name(ctx.net, f"{owner}_{effect}_{i + 1}") for i in range(len(paths))]
+    r = role.param("resistance")
+    # plausibility on the conductance scale of the parameter-form candidates (5e-13…5e-10 m³/s/Pa)
+    params = [NewParam(f"{n}.{r}", 1e16, (1e9, 1e17), (2e9, 2e12), 5e10, True, ref=0.0) for n in names]
+
+    def build(net):
+        for n, (a, b) in zip(names, paths):
+            net = A.add(net, n, typ, {role.port("a"): a, role.port("b"): b}, {r: 1e16})
+        return A.free_new(net, params)
+    return Candidate(effect, owner, params, build, "continuity", description, variant="laminar")
+
+
+def _air_volumes(ctx: Context, act: Part, nodes: list[str], description: str) -> Candidate:
+    """Entrained air where the actuator has no air parameter: a volume with free air on each
+    chamber node, sized as the chamber's own (from the role's size × 0.1 rad/m of stroke: a
+    nominal chamber); the air fraction (log scale) is what is identified."""
+    typ, role = ctx.element(R.VOLUME, Domain.HYDRAULIC)
+    names = [A.unique_name(ctx.net, f"{act.name}_air_{i + 1}") for i in range(len(nodes))]
+    air = role.param("air")
+    size = _size(ctx, act)
+    v_nom = max(size * 0.5, 1e-6)          # half a radian (or metre) of displacement: a chamber's order
+    # one fraction per chamber; the first sizes the effect, the others are companions
+    params = [NewParam(f"{n}.{air}", 1e-4, (1e-5, 0.3), (1e-3, 0.3), 0.03, True, primary=(i == 0))
+              for i, n in enumerate(names)]
+
+    def build(net):
+        for n, node in zip(names, nodes):
+            net = A.add(net, n, typ, {role.port("node"): node}, {role.param("volume"): v_nom})
+        return A.free_new(net, params)
+    return Candidate("entrained_air", act.name, params, build, "continuity", description, variant="volume")
+
+
+def _size(ctx: Context, act: Part) -> float:
+    name = act.param("size")
+    try:
+        return abs(ctx.value(name)) if name else 1e-3
+    except (KeyError, TypeError, ValueError):
+        return 1e-3

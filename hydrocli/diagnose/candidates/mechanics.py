@@ -1,5 +1,6 @@
-"""Mechanical effects on the load side of every cylinder (linear-graph elements of the
-library: mass, spring, damper).
+"""Mechanical effects on the load side of every actuator, translational or rotary (library
+elements found by role for the moving node's domain: a load (mass or inertia), a spring
+(spring or shaft), a damper (damper or rotary damper)).
 
 * load_compliance: the rod drives the load through a spring–damper (rod/coupling
   elasticity): the load's mass and external forces move to a new node; the rod keeps a
@@ -11,8 +12,10 @@ library: mass, spring, damper).
 """
 from __future__ import annotations
 
+from ...components import roles as R
+from ...components.base import Domain
 from .. import augment as A
-from .base import Candidate, Context, Family, NewParam, Skipped
+from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 G = 9.81
 
@@ -22,48 +25,59 @@ class MechanicsFamily(Family):
 
     def candidates(self, ctx: Context):
         out = []
-        for cyl in ctx.of_type("cylinder"):
-            ports = ctx.net.components[cyl].ports
-            rod, body = ports.get("rod"), ports.get("body")
-            masses = [c for c, _ in ctx.on_node(rod) if ctx.net.components[c].type == "mass"]
-            if not masses:
-                out.append(Skipped("load_compliance", f"no mass on the rod node '{rod}' of '{cyl}'"))
-                out.append(Skipped("payload_swing", f"no mass on the rod node '{rod}' of '{cyl}'"))
+        for act in ctx.parts(R.ACTUATOR):
+            node, body = act.node("motion"), act.node("reference")
+            dom = ctx.domain(node)
+            loads = ctx.parts_on(node, R.LOAD)
+            m = _inertia(ctx, loads[0]) if loads else None
+            if not loads:
+                out.append(Skipped("load_compliance", f"no load (mass or inertia) on the moving node '{node}' of '{act.name}'"))
+                out.append(Skipped("payload_swing", f"no load on the moving node '{node}' of '{act.name}'"))
             else:
-                m = ctx.value(f"{masses[0]}.m")
-                out.append(self._compliance(ctx, cyl, rod, masses[0], m))
-                out.append(self._payload(ctx, cyl, rod, m))
-            out.append(self._structure(ctx, cyl, body, masses and ctx.value(f"{masses[0]}.m") or 100.0))
-        return out or [Skipped(e, "no cylinder in the machine") for e in self.effects]
+                out.append(self._compliance(ctx, act, node, dom, m))
+                if dom == Domain.TRANSLATIONAL:
+                    out.append(self._payload(ctx, node, m))
+                else:
+                    out.append(Skipped("payload_swing", f"a swinging payload on the rotary '{node}' is not modelled"))
+            out.append(self._structure(ctx, act, body, dom, m if m is not None else (100.0 if dom == Domain.TRANSLATIONAL else 1.0)))
+        return out or [Skipped(e, "no actuator in the machine") for e in self.effects]
 
     @staticmethod
-    def _compliance(ctx: Context, cyl: str, rod: str, mass: str, m: float):
+    def _compliance(ctx: Context, act: Part, rod: str, dom: Domain, m: float):
         load = A.unique_name(ctx.net, f"{rod}_load")
-        spring, damper, rodm = (A.unique_name(ctx.net, f"{cyl}_{s}") for s in ("coupling", "coupling_damper", "rod_mass"))
-        keep = {c for c, _ in ctx.on_node(rod) if ctx.net.components[c].type in ("friction",) or c == cyl}
+        spring, damper, rodm = (A.unique_name(ctx.net, f"{act.name}_{s}") for s in ("coupling", "coupling_damper", "rod_mass"))
+        keep = {f.name for f in ctx.parts_on(rod, R.FRICTION)} | {act.name}
+        ltype, lrole = ctx.element(R.LOAD, dom)
+        stype, srole = ctx.element(R.SPRING, dom)
+        dtype, drole = ctx.element(R.DAMPER, dom)
         # the rod side keeps a small mass (piston and rod; the load's mass stays free); the
         # coupling's stiffness AND damping are identified (log scale): a fixed damper sized for
         # a stiff link would overdamp a soft one and hide it. Probes where a link is visible
-        # (a mode at some 10–30 Hz for the identified mass).
+        # (a mode at some 10–30 Hz for the identified mass or inertia). Bounds scale with the
+        # load (k/m from (0.5 Hz)² to (5 kHz)²), equal to the fixed ones for a 100 kg load.
         k_probe = (2 * 3.14159 * 25.0) ** 2 * 0.3 * m
         c0 = 0.2 * (1e7 * 0.1 * m) ** 0.5
-        params = [NewParam(f"{spring}.k", 1e9, (1e5, 1e10), (1e5, 5e8), k_probe, True),
-                  NewParam(f"{damper}.c", c0, (1.0, 1e5), (1.0, 1e5), 0.3 * c0, True, primary=False)]
+        s = m / 100.0
+        params = [NewParam(f"{spring}.{srole.param('stiffness')}", 1e9 * s, (1e5 * s, 1e10 * s), (1e5 * s, 5e8 * s),
+                           k_probe, True),
+                  NewParam(f"{damper}.{drole.param('damping')}", c0, (1.0 * s ** 0.5, 1e5 * s ** 0.5),
+                           (1.0 * s ** 0.5, 1e5 * s ** 0.5), 0.3 * c0, True, primary=False)]
 
         def build(net):
             net = A.move_node(net, rod, load, keep)
-            net = A.add(net, rodm, "mass", {"m": rod}, {"m": 0.1 * m})
-            net = A.add(net, spring, "spring", {"a": rod, "b": load})
-            net = A.add(net, damper, "damper", {"a": rod, "b": load}, {"c": c0})
-            net = A.rewrite_outputs(net, {f"{rod}.x": f"{load}.x", f"{rod}.v": f"{load}.v"})
+            net = A.add(net, rodm, ltype, {lrole.port("node"): rod}, {lrole.param("inertia"): 0.1 * m})
+            net = A.add(net, spring, stype, {srole.port("a"): rod, srole.port("b"): load})
+            net = A.add(net, damper, dtype, {drole.port("a"): rod, drole.port("b"): load}, {drole.param("damping"): c0})
+            mapping = {f"{rod}.{q}": f"{load}.{q}" for q in (dom.across, dom.position) if q}
+            net = A.rewrite_outputs(net, mapping)
             net = _move_initial(net, rod, load)
             return A.free_new(net, params)
-        return Candidate("load_compliance", cyl, params,
-                         build, "force", f"elastic coupling between the rod of '{cyl}' and its load "
-                                         "(x and v measured on the load side)")
+        return Candidate("load_compliance", act.name, params,
+                         build, "force", f"elastic coupling between the moving part of '{act.name}' and its load "
+                                         "(motion measured on the load side)")
 
     @staticmethod
-    def _payload(ctx: Context, cyl: str, rod: str, m: float):
+    def _payload(ctx: Context, rod: str, m: float):
         node = A.unique_name(ctx.net, f"{rod}_payload")
         pm, sp, dm = (A.unique_name(ctx.net, f"payload_{s}") for s in ("mass", "rope", "damper"))
         mp = 0.3 * m
@@ -78,20 +92,35 @@ class MechanicsFamily(Family):
                          build, "force", f"a swinging payload (pendulum, L = 1 m) hanging on '{rod}'")
 
     @staticmethod
-    def _structure(ctx: Context, cyl: str, body: str | None, m: float):
+    def _structure(ctx: Context, act: Part, body: str | None, dom: Domain, m: float):
         if body is None or body != "ground":
-            return Skipped("structural_flexibility", f"the body of '{cyl}' is not fixed to ground")
-        frame = A.unique_name(ctx.net, f"{cyl}_frame")
-        fm, sp, dm = (A.unique_name(ctx.net, f"{cyl}_{s}") for s in ("frame_mass", "mount", "mount_damper"))
+            return Skipped("structural_flexibility", f"the body of '{act.name}' is not fixed to ground")
+        frame = A.unique_name(ctx.net, f"{act.name}_frame")
+        fm, sp, dm = (A.unique_name(ctx.net, f"{act.name}_{s}") for s in ("frame_mass", "mount", "mount_damper"))
+        ltype, lrole = ctx.element(R.LOAD, dom)
+        stype, srole = ctx.element(R.SPRING, dom)
+        dtype, drole = ctx.element(R.DAMPER, dom)
+        s = m / 100.0
+        k = f"{sp}.{srole.param('stiffness')}"
 
         def build(net):
-            net = A.connect(net, cyl, "body", frame)
-            net = A.add(net, fm, "mass", {"m": frame}, {"m": 2.0 * m})
-            net = A.add(net, sp, "spring", {"a": frame, "b": "ground"})
-            net = A.add(net, dm, "damper", {"a": frame, "b": "ground"}, {"c": 0.1 * 2 * (1e9 * 2 * m) ** 0.5})
-            return A.free(net, f"{sp}.k", 1e9, (1e5, 1e10), True)
-        return Candidate("structural_flexibility", cyl, [NewParam(f"{sp}.k", 1e9, (1e5, 1e10), (1e5, 5e8), 1e7, True)],
-                         build, "force", f"compliant mounting of the body of '{cyl}'")
+            body_port = act.role.port("reference")
+            net = A.connect(net, act.name, body_port, frame)
+            net = A.add(net, fm, ltype, {lrole.port("node"): frame}, {lrole.param("inertia"): 2.0 * m})
+            net = A.add(net, sp, stype, {srole.port("a"): frame, srole.port("b"): "ground"})
+            net = A.add(net, dm, dtype, {drole.port("a"): frame, drole.port("b"): "ground"},
+                        {drole.param("damping"): 0.1 * 2 * (1e9 * s * 2 * m) ** 0.5})
+            return A.free(net, k, 1e9 * s, (1e5 * s, 1e10 * s), True)
+        return Candidate("structural_flexibility", act.name,
+                         [NewParam(k, 1e9 * s, (1e5 * s, 1e10 * s), (1e5 * s, 5e8 * s), 1e7 * s, True)],
+                         build, "force", f"compliant mounting of the body of '{act.name}'")
+
+
+def _inertia(ctx: Context, load: Part) -> float:
+    try:
+        return float(ctx.value(load.param("inertia")))
+    except (KeyError, TypeError, ValueError):
+        return 1.0
 
 
 def _move_initial(net, old: str, new: str):

@@ -1,0 +1,76 @@
+"""Roles: what part a component type can play in a machine, as data.
+
+Tools that reason about a machine as a whole (the diagnosis: "leakage across every
+actuator", "friction on every moving load", "a line between each valve work port and the
+actuator chamber it feeds") find components by the ROLE they offer, never by type name.
+A component type lists its roles in its spec (``roles = (Role(...), ...)``); each role maps
+the role's SLOTS to the type's own port and parameter names, so a cylinder, a vane actuator
+and a hydraulic motor all offer ``ACTUATOR`` with ``chamber_a``/``chamber_b``/``motion``
+ports, and the diagnosis needs no list of cylinder types.
+
+Slots of each role (a type fills the ones it has; a missing slot means "not offered"):
+
+=================  ==========================================================================
+role               slots
+=================  ==========================================================================
+actuator           ports chamber_a, chamber_b, motion, reference; params size (area or
+                   displacement: force or torque per Pa), internal_leakage / external_leakage
+                   (laminar conductances, 0 = none), air (free-air fraction), stop_min,
+                   stop_max, stop_stiffness, stop_damping
+metering_valve     ports supply, tank, work_a, work_b, command; params flow_gain, direction_ratio
+                   (1 = symmetric), overlaps (four edges), edge_leak, edge_gains (four edges),
+                   spool_dynamics (time constant, rate limit: nuisance parameters)
+load               ports node; params inertia (mass or moment of inertia)
+spring             ports a, b; params stiffness
+damper             ports a, b; params damping
+friction           ports a, b, pressure_a, pressure_b; params viscous, coulomb, stribeck (one or
+                   two names: both directions of motion), pressure (seal friction per Pa·size),
+                   pressure_size
+pressure_source    ports out, reference; params pressure
+tank               ports node
+volume             ports node; params volume, air
+restriction        ports a, b; params conductance (turbulent: q = K·√Δp)
+laminar_restriction ports a, b; params resistance (Δp = R·q)
+=================  ==========================================================================
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+ACTUATOR = "actuator"
+METERING_VALVE = "metering_valve"
+LOAD = "load"
+SPRING = "spring"
+DAMPER = "damper"
+FRICTION = "friction"
+PRESSURE_SOURCE = "pressure_source"
+TANK = "tank"
+VOLUME = "volume"
+RESTRICTION = "restriction"
+LAMINAR_RESTRICTION = "laminar_restriction"
+
+
+@dataclass(frozen=True)
+class Role:
+    """One role a component type offers: slot → port name, slot → parameter name(s)."""
+
+    name: str
+    ports: tuple[tuple[str, str], ...] = ()
+    params: tuple[tuple[str, tuple[str, ...]], ...] = ()
+
+    def port(self, slot: str) -> str | None:
+        return dict(self.ports).get(slot)
+
+    def params_of(self, slot: str) -> tuple[str, ...]:
+        """The type's parameter names filling ``slot`` (empty when not offered)."""
+        return dict(self.params).get(slot, ())
+
+    def param(self, slot: str) -> str | None:
+        names = self.params_of(slot)
+        return names[0] if names else None
+
+
+def role(name: str, ports: dict[str, str] | None = None, **params: str | tuple[str, ...]) -> Role:
+    """``role(ACTUATOR, {"chamber_a": "A", ...}, size="A", internal_leakage="c_il")``."""
+    return Role(name, tuple((ports or {}).items()),
+                tuple((k, (v,) if isinstance(v, str) else tuple(v)) for k, v in params.items()))

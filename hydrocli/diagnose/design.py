@@ -1,0 +1,161 @@
+"""A discriminating experiment for two candidates the data cannot tell apart.
+
+When two effects fit the recordings equally well (ΔBIC and validation gain within the
+margin; e.g. entrained air and a compliant mount: both soften the chamber–load stiffness
+over the pressures seen), the diagnosis proposes a test that separates them — what a
+commissioning engineer would do by hand (a slow pressure ramp at standstill shows whether a
+stiffness depends on pressure; a low-frequency small-amplitude sine shows a dead band or a
+compliance without exciting the rest).
+
+Method (optimal input design by simulation, Ljung 1999 §13; Atkinson & Fedorov 1975 for
+T-optimal model discrimination): a small family of designed experiments is built from the
+machine's own inputs and the ranges the training data visited (the command input of each
+metering valve moves; the others are held or ramped over their recorded range). Both fitted
+candidate models are simulated on every design, and the design with the largest predicted
+discrimination Σ_o N·(RMS(ŷ_a − ŷ_b)/σ_o)² (the χ² a likelihood-ratio test between the two
+models would see, σ_o the output's measurement noise) is written as an experiment YAML with
+designed signals, next to the predicted difference per output.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..components import registry
+from ..components import roles as R
+from ..errors import HydroError
+from ..netlist import yamldoc as Y
+from ..units import from_si
+
+DURATION = 12.0    # s of each designed test
+RATE = 500.0       # Hz
+
+
+@dataclass(frozen=True)
+class Design:
+    name: str
+    description: str
+    inputs: dict[str, object]      # machine input → YAML signal (in the input's declared unit)
+
+
+def command_inputs(net) -> set[str]:
+    """Machine inputs that drive a metering valve's command (by role)."""
+    out = set()
+    for d in net.components.values():
+        cls = registry.get(d.type)
+        role = cls.role(R.METERING_VALVE) if cls is not None else None
+        if role is not None and role.port("command") in d.ports:
+            node = d.ports[role.port("command")]
+            if node in net.inputs:
+                out.add(node)
+    return out
+
+
+def _stats(model, train) -> dict[str, tuple[float, float, float, float]]:
+    """Per input (SI): mean, std, min, max over the training experiments."""
+    out = {}
+    for j, n in enumerate(model.input_names):
+        u = np.concatenate([e.inputs.U[:, j] for e in train])
+        out[n] = (float(np.mean(u)), float(np.std(u)), float(np.min(u)), float(np.max(u)))
+    return out
+
+
+def designs(model, net, train) -> list[Design]:
+    """The candidate tests: sines of the command at three frequencies and two amplitudes,
+    command steps, and a slow ramp of each other input over its recorded range at a held
+    command (standstill)."""
+    st = _stats(model, train)
+    cmds = command_inputs(net) or set(model.input_names[:1])
+    unit = model.input_units
+
+    def val(n, v):
+        return float(from_si(v, unit[n])) if unit.get(n) else float(v)
+
+    def held(except_=()):
+        return {n: val(n, st[n][0]) for n in model.input_names if n not in except_}
+
+    # the command's "centre": where the actuator holds (the median command of the training data)
+    centre = {n: float(np.median(np.concatenate([e.inputs.U[:, model.input_names.index(n)] for e in train])))
+              for n in cmds}
+    out = []
+    for frac in (0.1, 0.3):
+        for f in (0.2, 1.0, 5.0):
+            ins = held(cmds)
+            for n in cmds:
+                ins[n] = {"sine": {"amplitude": val(n, frac * st[n][1]) - val(n, 0.0), "frequency": f"{f} Hz",
+                                   "offset": val(n, centre[n])}}
+            out.append(Design(f"sine_{f:g}Hz_{int(100 * frac)}", f"command sine, {f:g} Hz, {frac:g}·std of the "
+                              "recorded command around its median, other inputs held at their means", ins))
+    ins = held(cmds)
+    for n in cmds:
+        a = val(n, centre[n] + 0.3 * st[n][1])
+        b = val(n, centre[n] - 0.3 * st[n][1])
+        c = val(n, centre[n])
+        ins[n] = {"table": {"t": [0, 2, 2.01, 4, 4.01, 6, 6.01, 8, 8.01, DURATION],
+                            "values": [c, c, a, a, c, c, b, b, c, c]}}
+    out.append(Design("command_steps", "command steps of ±0.3·std around its median, held 2 s each", ins))
+    for other in (n for n in model.input_names if n not in cmds):
+        lo, hi = st[other][2], st[other][3]
+        if hi - lo <= 1e-12 * max(abs(hi), 1.0):
+            continue
+        ins = held((other,) + tuple(cmds))
+        for n in cmds:
+            ins[n] = val(n, centre[n])
+        ins[other] = {"table": {"t": [0, 1, DURATION / 2, DURATION - 1, DURATION],
+                                "values": [val(other, lo), val(other, lo), val(other, hi), val(other, lo), val(other, lo)]}}
+        out.append(Design(f"ramp_{other}", f"slow ramp of '{other}' over its recorded range and back, the "
+                          "command held at its median (standstill): shows whether a stiffness depends on pressure", ins))
+    return out
+
+
+def experiment_text(d: Design, machine_name: str) -> str:
+    doc = {"name": f"discriminate_{d.name}",
+           "description": f"proposed by hydro diagnose for {machine_name}: {d.description}. Record the machine's "
+                          "outputs on it, add a 'data:' file and 'outputs:' mapping, and diagnose again with it "
+                          "among the training experiments.",
+           "duration": f"{DURATION:g} s", "rate": f"{RATE:g} Hz", "inputs": d.inputs}
+    return Y.dump_text(doc)
+
+
+def _simulate(model, p, exp) -> np.ndarray | None:
+    from ..solve.simulate import simulate
+    from .residuals import OPTS
+    try:
+        return simulate(model, exp.inputs, exp.t_out, p=p, x0=exp.x0(model), opts=OPTS).Y
+    except HydroError:
+        return None
+
+
+def propose(a, b, net, train, noise_sigma: dict[str, float], workdir: Path, machine_name: str) -> dict | None:
+    """The design that separates the fitted candidates ``a`` and ``b`` best. Each is
+    (name, model, p). Returns {"name", "description", "text", "discrimination",
+    "predicted_difference": {output: RMS difference in SI}, "z": {output: RMS/σ}} or None."""
+    from ..experiments.experiment_file import load_experiment_file
+    (_, ma, pa), (_, mb, pb) = a, b
+    best = None
+    workdir.mkdir(parents=True, exist_ok=True)
+    for d in designs(ma, net, train):
+        path = workdir / f"design_{d.name}.yaml"
+        text = experiment_text(d, machine_name)
+        path.write_text(text)
+        try:
+            ea, eb = load_experiment_file(path, ma), load_experiment_file(path, mb)
+        except HydroError:
+            continue
+        ya, yb = _simulate(ma, pa, ea), _simulate(mb, pb, eb)
+        if ya is None or yb is None:
+            continue
+        diff, z, score = {}, {}, 0.0
+        for o, s in noise_sigma.items():
+            if o not in ma.output_names or o not in mb.output_names or not s > 0:
+                continue
+            dy = ya[:, ma.output_names.index(o)] - yb[:, mb.output_names.index(o)]
+            rms = float(np.sqrt(np.mean(dy ** 2)))
+            diff[o], z[o] = rms, rms / s
+            score += dy.size * (rms / s) ** 2
+        if best is None or score > best["discrimination"]:
+            best = {"name": d.name, "description": d.description, "text": text, "discrimination": score,
+                    "predicted_difference": diff, "z": z}
+    return best

@@ -1,0 +1,93 @@
+"""Verdicts that do not come from an added candidate.
+
+* **Base-fit findings** (DESIGN.md: ``source: base_fit``). A machine file may already carry an
+  effect's parameter FREE from its "no effect" value (``c_el: {value: 0, free: true}``). When
+  the base fit moves it to a plausible, well-determined value that the held-out data need,
+  the effect IS present: the fit found it. Judged with the catalogue's own data (the
+  candidate that would set that parameter free gives its "off" value ``ref`` and plausibility
+  range) and the acceptance rule's standards: |θ̂ − ref| inside the plausible range,
+  > ``Z_MIN`` inflated standard errors from ref, and switching it back off worsens the
+  validation ESR by more than the noise band (:func:`accept.need`).
+* **Unexplained mismatch**. Nothing passes, yet some output's validation ESR stays above its
+  noise floor by more than ``MISMATCH_ESR`` and by more than the floor itself: the model is
+  missing something the catalogue cannot express. Said so, with where it lies (outputs,
+  regimes, windows), never a bare ``none``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+Z_MIN = 3.0          # a finding must sit this many (inflated) standard errors from "off"
+MISMATCH_ESR = 1.0   # % validation ESR above the noise floor that the benchmark calls detectable
+
+
+@dataclass(frozen=True)
+class OffValue:
+    """What the catalogue says about a parameter that is an effect's own: the effect, the
+    value meaning "no effect" and the plausible |θ − ref| range."""
+    effect: str
+    component: str
+    ref: float
+    plausible: tuple[float, float]
+    primary: bool
+
+
+def off_values(cands) -> dict[str, OffValue]:
+    """{parameter: OffValue} from catalogue candidates built as if nothing were free."""
+    out = {}
+    for c in cands:
+        for p in c.params:
+            if p.scale:          # positions (stops) have no "off" value
+                continue
+            out.setdefault(p.name, OffValue(c.effect, c.component, p.ref, p.plausible, p.primary))
+    return out
+
+
+def base_fit_findings(judged: list[dict], offs: dict[str, OffValue], gain_of) -> list[dict]:
+    """Effects the base fit found. ``judged``: baseline.judge rows (name, value, initial,
+    stderr); ``gain_of(names) -> (gain %, need %)``: validation ESR gain of the fitted model
+    over the same model with those parameters back at "off", and the noise band it must
+    beat."""
+    groups: dict[tuple[str, str], list[tuple[dict, OffValue]]] = {}
+    for j in judged:
+        off = offs.get(j["name"])
+        if off is None or not np.isclose(j["initial"], off.ref, rtol=0.0, atol=1e-3 * off.plausible[0]):
+            continue
+        groups.setdefault((off.effect, off.component), []).append((j, off))
+    found = []
+    for (effect, comp), rows in groups.items():
+        moved = [(j, off) for j, off in rows if off.primary and _determined(j, off)]
+        if not moved:
+            continue
+        gain, need = gain_of([j["name"] for j, _ in rows])
+        if not gain > need:
+            continue
+        found.append({"effect": effect, "component": comp, "source": "base_fit",
+                      "parameters": [{"name": j["name"], "value": j["value"], "stderr": j["stderr"],
+                                      "file_value": j["initial"], "plausible": list(off.plausible)}
+                                     for j, off in rows],
+                      "validation_gain": gain, "noise_band": need,
+                      "description": f"the base fit moved {', '.join(j['name'] for j, _ in moved)} off its "
+                                     f"'no effect' value to a well-determined one the held-out data need"})
+    return found
+
+
+def _determined(j: dict, off: OffValue) -> bool:
+    size = abs(j["value"] - off.ref)
+    se = j["stderr"]
+    return (off.plausible[0] <= size <= off.plausible[1] and np.isfinite(se)
+            and size > Z_MIN * se)
+
+
+def unexplained(esr_validation: dict, noise: dict, located: dict) -> dict | None:
+    """Where the validation error stays above the noise floor, or None when it does not."""
+    excess = {o: esr_validation[o] - noise.get(o, 0.0) for o in esr_validation}
+    outs = {o: e for o, e in excess.items() if e > max(MISMATCH_ESR, noise.get(o, 0.0))}
+    if not outs:
+        return None
+    return {"outputs": {o: {"esr_validation": esr_validation[o], "noise_floor": noise.get(o, 0.0)}
+                        for o in sorted(outs, key=lambda k: -outs[k])},
+            "regimes": [r for r in located.get("regimes", []) if r.get("concentration", 0) > 1.2][:3],
+            "windows": located.get("windows", [])[:3]}

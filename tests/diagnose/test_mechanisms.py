@@ -1,0 +1,166 @@
+"""Fast unit tests of the diagnosis mechanisms: roles (matching by role, not type name),
+nuisance spool dynamics, base-fit findings, the unexplained-mismatch verdict, strict JSON."""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+from hydrocli.components import registry
+from hydrocli.components import roles as R
+from hydrocli.diagnose import findings, nuisance
+from hydrocli.diagnose.candidates import Context, catalogue
+from hydrocli.diagnose.measurement import with_pressure_sensors
+from hydrocli.diagnose.summary import write_json
+from hydrocli.netlist.loader import load_netlist, load_netlist_text
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_every_role_slot_names_a_real_port_and_parameter():
+    """A role is data about the spec: each slot must point at the type's own ports/params."""
+    n = 0
+    for t, cls in registry.all_types().items():
+        for role in cls.roles:
+            for slot, port in role.ports:
+                assert cls.port(port) is not None, f"{t}: role {role.name} slot {slot} → unknown port {port}"
+            for slot, names in role.params:
+                for p in names:
+                    assert cls.param(p) is not None, f"{t}: role {role.name} slot {slot} → unknown parameter {p}"
+            n += 1
+    assert n >= 15
+
+
+def test_actuators_of_both_domains_offer_the_actuator_role():
+    acts = registry.offering(R.ACTUATOR)
+    domains = {cls.port(cls.role(R.ACTUATOR).port("motion")).domain.value for cls in acts.values()}
+    assert {"cylinder", "vane_actuator", "hydraulic_motor"} <= set(acts)
+    assert domains == {"translational", "rotational"}
+
+
+ROTARY = """
+name: vane_pendulum
+fluid: {beta: "1.5 GPa", p_tank: "1 bar"}
+inputs: {u: {unit: "1"}}
+components:
+  supply: {type: pressure_source, ports: {P: sup}, p: "100 bar"}
+  tank: {type: tank, ports: {T: ret}}
+  valve: {type: valve_4_3, ports: {P: sup, T: ret, A: c1, B: c2, cmd: u}, Kv: 2.0e-8}
+  vane: {type: vane_actuator, ports: {A: c1, B: c2, shaft: arm, body: ground}, D_v: 5.0e-6}
+  arm_inertia: {type: inertia, ports: {r: arm}, J: 0.05}
+  weight: {type: gravity_load, ports: {r: arm}, W: 5.0}
+outputs: {p1: c1.p, p2: c2.p, angle: arm.theta}
+initial: {c1.p: "50 bar", c2.p: "50 bar"}
+"""
+
+
+def test_rotary_drive_gets_candidates_by_role(tmp_path):
+    """A vane actuator on an inertia (no cylinder, no type-name match) gets leakage, air,
+    friction, compliance and mount candidates built from rotational elements."""
+    net = load_netlist_text(ROTARY, str(tmp_path / "vane.yaml"))
+    ctx = Context(net, set(), {"arm.theta": (-0.5, 0.5)}, {"p1": "pressure", "angle": "angle"}, {"u": 0.0})
+    cands, skipped = catalogue(ctx)
+    effects = {c.effect for c in cands}
+    assert {"internal_leakage", "external_leakage", "entrained_air", "coulomb_friction", "viscous_friction",
+            "load_compliance", "structural_flexibility", "valve_overlap", "input_delay"} <= effects
+    comp = next(c for c in cands if c.effect == "load_compliance")
+    aug = comp.build(net)
+    types = {d.type for d in aug.components.values()}
+    assert {"shaft", "rotary_damper"} <= types and "spring" not in types
+    fr = next(c for c in cands if c.effect == "coulomb_friction")
+    assert "rotary_friction" in {d.type for d in fr.build(net).components.values()}
+    # the augmented machines are valid netlists that build
+    from hydrocli.model.builder import build_model
+    for c in cands:
+        if c.effect in ("load_compliance", "internal_leakage", "entrained_air"):
+            m = build_model(c.build(net))
+            assert set(p.name for p in c.params) <= set(m.free_params)
+
+
+def test_nuisance_frees_fixed_spool_dynamics_within_30_percent():
+    net = load_netlist(ROOT / "machines" / "eha_testbench.yaml")
+    found = {n.name: n for n in nuisance.valve_dynamics(net, set())}
+    assert set(found) == {"valve.tau", "valve.s_max"}
+    tau = found["valve.tau"]
+    assert tau.file_value == pytest.approx(4e-3)
+    assert tau.bounds[0] == pytest.approx(4e-3 / 1.43) and tau.bounds[1] == pytest.approx(4e-3 * 1.43)
+    assert "valve.tau" not in {n.name for n in nuisance.valve_dynamics(net, {"valve.tau"})}
+    net2, _ = nuisance.with_nuisance(net, set())
+    assert net2.components["valve"].params["tau"].free
+
+
+def _row(name, value, initial, stderr):
+    return {"name": name, "value": value, "initial": initial, "stderr": stderr}
+
+
+def test_base_fit_finding_needs_plausible_determined_and_needed():
+    offs = {"cyl.c_el": findings.OffValue("external_leakage", "cyl", 0.0, (1e-13, 5e-10), True)}
+    big = lambda names: (5.0, 1.0)      # switching it off costs 5 % ESR, band 1 %
+    small = lambda names: (0.5, 1.0)
+    good = [_row("cyl.c_el", 2.9e-12, 0.0, 1e-13)]
+    f = findings.base_fit_findings(good, offs, big)
+    assert [x["effect"] for x in f] == ["external_leakage"] and f[0]["source"] == "base_fit"
+    assert findings.base_fit_findings(good, offs, small) == []                       # not needed by the data
+    assert findings.base_fit_findings([_row("cyl.c_el", 2.9e-12, 0.0, 2e-12)], offs, big) == []  # ± too large
+    assert findings.base_fit_findings([_row("cyl.c_el", 1e-15, 0.0, 1e-17)], offs, big) == []    # negligible
+    assert findings.base_fit_findings([_row("cyl.c_el", 2.9e-12, 1e-12, 1e-13)], offs, big) == []  # not from "off"
+
+
+def test_unexplained_mismatch_when_error_stays_above_noise():
+    loc = {"regimes": [{"regime": "direction reversal", "concentration": 2.0}], "windows": [{"t0": 1, "t1": 2}]}
+    assert findings.unexplained({"P1": 0.3, "v": 0.1}, {"P1": 0.15, "v": 0.05}, loc) is None
+    u = findings.unexplained({"P1": 0.3, "v": 2.4}, {"P1": 0.15, "v": 0.05}, loc)
+    assert list(u["outputs"]) == ["v"] and u["regimes"][0]["regime"] == "direction reversal"
+    # an output whose noise floor is itself large needs an excess beyond that floor
+    assert findings.unexplained({"P1": 3.0}, {"P1": 2.5}, loc) is None
+
+
+def test_diagnosis_json_is_strict(tmp_path):
+    diag = SimpleNamespace(data={"a": float("nan"), "b": [1.0, float("inf")], "c": {"d": -math.inf}})
+    write_json(diag, tmp_path / "d.json")
+    text = (tmp_path / "d.json").read_text()
+    assert json.loads(text) == {"a": None, "b": [1.0, None], "c": {"d": None}}
+    assert "NaN" not in text and "Infinity" not in text
+
+
+def test_discriminating_design_separates_two_models_and_loads(tmp_path):
+    """Two EHA models that differ only in the oil stiffness: the chosen design predicts a
+    difference many σ large in a pressure or motion output, and its YAML loads as a designed
+    experiment. Identical models predict no difference on any design (discrimination 0)."""
+    from hydrocli.diagnose import design
+    from hydrocli.experiments.experiment_file import load_experiment_file, load_all
+    from hydrocli.model.builder import build_model
+    net = load_netlist(ROOT / "machines" / "eha_testbench.yaml")
+    model = build_model(net)
+    train = load_all(ROOT / "experiments" / "quickstart" / "train.yaml", model)
+    assert design.command_inputs(net) == {"u"}
+    ds = design.designs(model, net, train)
+    assert any(d.name.startswith("ramp_") for d in ds) and any(d.name.startswith("sine_") for d in ds)
+    p = model.p0
+    q = p.copy()
+    q[model.param_index("fluid.beta" if "fluid.beta" in model.param_names else "cylinder.beta")] *= 0.3
+    sigma = {"P1": 1.5e4, "P2": 1.5e4, "v": 1e-3}
+    same = design.propose(("a", model, p), ("b", model, p), net, train, sigma, tmp_path / "w1", "eha")
+    assert same["discrimination"] == pytest.approx(0.0, abs=1e-9)
+    best = design.propose(("a", model, p), ("b", model, q), net, train, sigma, tmp_path / "w2", "eha")
+    assert best["discrimination"] > 0 and max(best["z"].values()) > 3.0
+    path = tmp_path / "proposed.yaml"
+    path.write_text(best["text"])
+    e = load_experiment_file(path, model)
+    assert e.t_out[-1] == pytest.approx(design.DURATION, rel=1e-3)
+
+
+def test_shortlist_adds_the_best_competing_candidate_of_each_other_balance():
+    from hydrocli.diagnose.engine import shortlist
+    C = lambda key, eq: SimpleNamespace(key=key, equation=eq)
+    order = [C("mount", "force"), C("hyst", "valve"), C("lag", "measurement"), C("delay", "signal"),
+             C("air", "continuity"), C("leak", "continuity"), C("stop", "force")]
+    dr2 = {"mount": 0.41, "hyst": 0.32, "lag": 0.30, "delay": 0.09, "air": 0.20, "leak": 0.19, "stop": 0.3}
+    scores = {k: {"dr2": v, "p_value": 1e-9} for k, v in dr2.items()}
+    keys = [c.key for c in shortlist(order, scores, 3)]
+    assert keys == ["mount", "hyst", "lag", "air"]   # air competes (≥ 1/3 of the top), delay does not
+    scores["air"]["p_value"] = 0.2                    # not significant: not fitted
+    assert [c.key for c in shortlist(order, scores, 3)] == ["mount", "hyst", "lag", "leak"]
