@@ -103,6 +103,10 @@ def _run(a: dict) -> None:
         for st in stages:                                 # data errors before any fitting
             for path in st.experiments:
                 load_all(path, model)
+        from ..netlist.writer import check_write_back     # and the write-back, and the outputs
+        check_write_back(net, list(dict.fromkeys(n for st in stages for n in st.free)))
+        from ..fileio import guard_output
+        guard_output(a["out"], (), "--out")
         with progress_bar(sum(s.max_evals for s in stages)) as prog:
             p, res_list = run_stages(model, stages, lambda path: load_all(path, model), opts=opts,
                                      progress=prog.update, workers=a["workers"],
