@@ -2,7 +2,7 @@
 
 Every error a user can cause is a :class:`HydroError` carrying one or more located
 :class:`Problem` records (file, line, column, YAML path, what is wrong, how to fix it).
-The CLI maps each subclass to an exit code (DESIGN.md): 3 for invalid netlist, units,
+The CLI maps each subclass to an exit code (DESIGN.md): 2 for usage errors, 3 for invalid netlist, units,
 topology or data; 4 for solver or identification failure.
 """
 from __future__ import annotations
@@ -95,6 +95,13 @@ class HydroError(Exception):
         head = f"{self.kind}: " if n == 1 else f"{self.kind}: {n} problems\n"
         body = "\n".join(p.render(with_source) for p in self.problems)
         return head + body
+
+
+class UsageError(HydroError):
+    """A bad command line: an option value out of range, an output path that is an input…"""
+
+    exit_code = 2
+    kind = "usage error"
 
 
 class NetlistError(HydroError):

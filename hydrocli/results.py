@@ -18,7 +18,7 @@ import numpy as np
 
 from .version import __version__
 from .errors import DataError, Location, Problem
-from .fileio import atomic_path
+from .fileio import atomic_path, note_input
 from .units import si_unit
 
 
@@ -130,6 +130,7 @@ def _write_tree(g, tree: dict) -> None:
 def read_result(path: str | Path) -> RunResult:
     """Read a result file back (for report and validate)."""
     path = Path(path)
+    note_input(path)
     try:
         h = h5py.File(path, "r")
     except (OSError, FileNotFoundError) as exc:

@@ -105,13 +105,30 @@ def to_si(value, expected_unit: str, *, default_unit: str | None = None,
     return number * factor
 
 
+#: One canonical SI spelling per dimension, as the component specs write them (files and
+#: reports never mix "Pa" and "kg/m/s**2" for one quantity); other dimensions use pint's
+#: base-unit form.
+CANONICAL_SI = ("Pa", "m", "m/s", "m/s^2", "m^2", "m^3", "m^3/s", "N", "N*m", "kg", "kg*m^2", "s", "1/s",
+                "N/m", "N*s/m", "W", "m^3/s/Pa^0.5", "m^3/s/Pa", "Pa/s", "1")
+
+
+@functools.lru_cache(maxsize=1)
+def _canonical_by_dimension() -> dict[str, str]:
+    return {dimensionality(u): u for u in reversed(CANONICAL_SI)}
+
+
+@functools.lru_cache(maxsize=4096)
 def si_unit(unit: str, fallback: str | None = None) -> str:
-    """The SI (pint base-unit) form of ``unit``, e.g. "bar" → "kg/m/s**2", "%" → "1";
-    ``fallback`` (default: ``unit`` itself) when the unit cannot be parsed."""
+    """The canonical SI spelling of ``unit``'s dimension, e.g. "bar" → "Pa", "L/min" → "m^3/s",
+    "%" → "1"; pint's base-unit form for dimensions without one; ``fallback`` (default:
+    ``unit`` itself) when the unit cannot be parsed."""
     try:
         q = _registry.Quantity(1.0, parse_unit(unit)).to_base_units()
     except Exception:
         return unit if fallback is None else fallback
+    known = _canonical_by_dimension().get(str(q.dimensionality))
+    if known is not None:
+        return known
     return f"{q.units:~}".replace(" ", "") or "1"
 
 

@@ -48,3 +48,44 @@ def test_bad_recording_is_refused(path, tmp_path):
     result = runner.invoke(app, ["simulate", str(EHA), "--experiment", str(path), "--out", str(tmp_path / "r.h5")])
     _assert_refused(result, path, line_required=path.stat().st_size > 0 and "single" not in path.name)
     assert not (tmp_path / "r.h5").exists()
+
+
+# -- the generated corpus (tests/bad_corpus.py): hostile inputs, output paths, usage errors -----
+import hashlib  # noqa: E402
+
+import bad_corpus  # noqa: E402
+
+CASES = bad_corpus.all_cases()
+FAST_EVERY = 4      # the fast lane (-m "not slow") runs every 4th case; the full suite runs all
+
+
+def _params():
+    for i, case in enumerate(CASES):
+        marks = [] if i % FAST_EVERY == 0 and not case.slow else [pytest.mark.slow]
+        yield pytest.param(case, id=case.name, marks=marks)
+
+
+def test_generated_corpus_is_large_and_covers_every_family():
+    assert len(CASES) >= 300
+    prefixes = {c.name.split("_")[0] for c in CASES}
+    assert {"machine", "experiment", "output", "usage"} <= prefixes
+
+
+@pytest.mark.parametrize("case", list(_params()))
+def test_generated_bad_input_is_refused(case, tmp_path):
+    argv = bad_corpus.materialise(case, tmp_path)
+    before = {f: hashlib.sha256((tmp_path / f).read_bytes()).hexdigest() for f in case.keep}
+    result = runner.invoke(app, argv)
+    out = result.output
+    assert result.exit_code == case.exit, f"{case.name}: exit {result.exit_code}, expected {case.exit}\n{out[-2000:]}"
+    assert "Traceback" not in out and "internal error" not in out, out[-2000:]
+    if case.where:
+        assert case.where in result.stderr, f"{case.name}: '{case.where}' not named\n{result.stderr[-2000:]}"
+        if case.line:
+            assert re.search(re.escape(case.where) + r":\d+", result.stderr), f"{case.name}: no line\n{result.stderr[-2000:]}"
+    for f, sha in before.items():
+        assert hashlib.sha256((tmp_path / f).read_bytes()).hexdigest() == sha, f"{case.name}: input {f} was changed"
+    for f in case.absent:
+        assert not (tmp_path / f).exists(), f"{case.name}: {f} was written"
+    leftovers = [p.name for p in tmp_path.rglob(".*.tmp*")]
+    assert not leftovers, f"{case.name}: temporary files left: {leftovers}"

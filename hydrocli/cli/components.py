@@ -19,7 +19,7 @@ def register(app: typer.Typer) -> None:
 def show_components(type_name: str | None) -> None:
     from ..components import registry
     from ..suggest import suggest
-    from ..errors import Location, NetlistError, Problem
+    from ..errors import Location, Problem, UsageError
     types = registry.all_types()
     out = console()
     if not type_name:
@@ -30,7 +30,7 @@ def show_components(type_name: str | None) -> None:
         return
     cls = types.get(type_name)
     if cls is None:
-        raise NetlistError(Problem(f"unknown component type '{type_name}'{suggest(type_name, types)}",
+        raise UsageError(Problem(f"unknown component type '{type_name}'{suggest(type_name, types)}",
                                    Location(path="hydro components TYPE"), "'hydro components' lists the types"))
     describe(cls, out)
 

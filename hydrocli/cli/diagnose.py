@@ -32,10 +32,14 @@ def register(app: typer.Typer) -> None:
 def _run(machine, train, validate, out, max_effects, jobs, top, no_pdf, scheduler=None, no_nuisance=False) -> None:
     from ..diagnose import Settings, diagnose
     from ..diagnose.summary import console_summary, write_augmented, write_json, write_proposals
+    from ..fileio import atomic_path, guard_output_dir
+    files = ("diagnosis.json", "augmented.yaml") + (() if no_pdf else ("report.pdf",))
+    guard_output_dir(out, files, (machine, *train, *validate))   # before the long diagnosis
 
     diag = diagnose(machine, train, validate, Settings(max_effects=max_effects, jobs=jobs, top=top,
                                                          scheduler=scheduler, nuisance=not no_nuisance),
                     progress=lambda m: typer.echo(m, err=True))
+    guard_output_dir(out, files)            # every input is known now
     out.mkdir(parents=True, exist_ok=True)
     proposals = write_proposals(diag, out)
     write_json(diag, out / "diagnosis.json")

@@ -61,8 +61,25 @@ def register(app: typer.Typer) -> None:
 
 
 def _usage(msg: str) -> None:
-    typer.echo(f"usage error: {msg}", err=True)
-    raise typer.Exit(2)
+    from ..errors import UsageError
+    raise UsageError(msg)
+
+
+METHODS = ("least-squares", "nelder-mead", "differential-evolution")
+COSTS = ("esr", "seed004", "wls")
+MODES = ("dynamic", "steady")
+
+
+def _check_options(a: dict) -> None:
+    """Option values out of range are usage errors (exit 2), before anything is loaded."""
+    from .options import check_choice, check_positive
+    check_choice("--method", a["method"], METHODS)
+    check_choice("--cost", a["cost"], COSTS)
+    check_choice("--mode", a["mode"], MODES)
+    check_positive("--max-evals", a["max_evals"])
+    check_positive("--workers", a["workers"])
+    check_positive("--jobs", a["jobs"])
+    check_positive("--rtol", a["rtol"], upper=1.0)
 
 
 def _run(a: dict) -> None:
@@ -74,6 +91,12 @@ def _run(a: dict) -> None:
         _usage("give --experiment (one or more), --stages FILE, or --batch GLOB (exactly one of them)")
     if a["out"] is None:
         _usage("--out is required (identified machine YAML, or the CSV table with --batch)")
+    _check_options(a)
+    from ..fileio import guard_output
+    inputs = [a["machine"], a["stages"], *(a["experiment"] or [])]
+    guard_output(a["out"], inputs, "--out")
+    if a["results"] is not None:
+        guard_output(a["results"], inputs, "--results")
     net, model = load_machine(a["machine"], a["sets"])
     for w in model.warnings:
         typer.echo(f"warning: {w}", err=True)
@@ -93,6 +116,10 @@ def _run(a: dict) -> None:
         stages = load_stages(a["stages"], model)
         paths = list(dict.fromkeys(path for st in stages for path in st.experiments))
         loaded = {path: load_all(path, model) for path in paths}   # each file once; data errors before fitting
+        from ..netlist.writer import check_write_back     # the write-back and the outputs, before any fitting
+        check_write_back(net, list(dict.fromkeys(n for st in stages for n in st.free)))
+        from ..fileio import guard_output
+        guard_output(a["out"], (), "--out")
         with progress_bar(sum(s.max_evals for s in stages)) as prog:
             p, res_list = run_stages(model, stages, loaded.__getitem__, opts=opts,
                                      progress=prog.update, workers=a["workers"],
@@ -105,6 +132,7 @@ def _run(a: dict) -> None:
         write_outputs(net, model, exps, p, names, combine(res_list, stages), a["out"], a["results"], opts)
         return
     exps = [e for path in a["experiment"] for e in load_all(path, model)]
+    _check_before_fit(net, model, free, a, exps, outputs)
     with progress_bar(a["max_evals"]) as prog:
         kw = dict(method=a["method"], cost=a["cost"], outputs=outputs, bounds=bounds, max_evals=a["max_evals"],
                   opts=opts, progress=prog.update, workers=a["workers"])
@@ -116,10 +144,40 @@ def _run(a: dict) -> None:
         elif a["mode"] == "dynamic":
             from ..identify.fit import fit
             res = fit(model, exps, free, gradient=a["gradient"], assess=True, **kw)
-        else:
-            _usage(f"--mode {a['mode']}: use dynamic or steady")
     print_fit(res)
     write_outputs(net, model, exps, res.p, res.names, res.as_dict(), a["out"], a["results"], opts)
+
+
+def _check_before_fit(net, model, free, a, exps, outputs) -> None:
+    """Everything that would make the end of a long fit fail, checked before it starts: the
+    identified values can be written back, and the outputs (now that every input is read)
+    are not inputs."""
+    from ..fileio import guard_output
+    from ..netlist.writer import check_write_back
+    names = free if free is not None else [p.name for p in model.params if p.free]
+    if not names:
+        _usage("no free parameter: mark some 'free: true' in the machine or give --free comp.param")
+    check_write_back(net, names)
+    _check_samples_left(exps, outputs)
+    guard_output(a["out"], (), "--out")
+    if a["results"] is not None:
+        guard_output(a["results"], (), "--results")
+
+
+def _check_samples_left(exps, outputs) -> None:
+    """A fit needs residuals: refuse when masks (or NaN) leave no sample of any fitted output."""
+    import numpy as np
+
+    from ..errors import DataError, Location, Problem
+    total = 0
+    for exp in exps:
+        for o in [o for o in (outputs or exp.fit_outputs or list(exp.measured)) if o in exp.measured]:
+            y = np.asarray(exp.measured[o], dtype=float)
+            total += int((np.isfinite(y) & exp.mask.get(o, np.ones_like(y, dtype=bool))).sum())
+    if total == 0:
+        raise DataError(Problem("no sample is left to fit: every sample of the fitted outputs is masked or NaN",
+                                Location(exps[0].file if exps else None, path="mask"),
+                                "loosen 'mask:' or the 'window:', or fit other outputs"))
 
 
 def parse_free(items, model) -> tuple[list[str] | None, dict[str, tuple[float, float]]]:

@@ -122,14 +122,12 @@ def print_table(rows: list[list]) -> None:
 def write_outputs(net, model, exps, p, names, identify: dict, out: Path, results: Path | None, opts) -> None:
     """Identified YAML (+ printed diff) and, with ``results``, one HDF5 per experiment."""
     from ..metrics import esr
-    from ..netlist.writer import diff_text, set_parameters
-    from ..netlist.yamldoc import write_atomic
+    from ..netlist.writer import diff_text, identified_netlist, write_back
     from ..runfiles import write_run
     from ..runner import simulate_experiment
 
     values = {n: float(p[model.param_index(n)]) for n in names}
-    new_text = set_parameters(net, values)
-    write_atomic(out, new_text)
+    new_text = write_back(net, values, out)
     typer.echo(diff_text(Path(net.file).read_text(encoding="utf-8"), new_text, Path(net.file).name)
                or "(no change to the machine file)")
     typer.echo(f"identified machine → {out}")
@@ -140,6 +138,7 @@ def write_outputs(net, model, exps, p, names, identify: dict, out: Path, results
         typer.echo(f"ESR on {exp.name}: {scores}")
         if results:
             res.identify = identify
+            res.netlist_sha, res.netlist_text = identified_netlist(new_text, out)
             path = results if len(exps) == 1 else results.with_name(f"{results.stem}_{exp.name}{results.suffix}")
             write_run(path, res)
             typer.echo(f"result → {path}")

@@ -20,6 +20,8 @@ def register(app: typer.Typer) -> None:
 
 
 def _run(results, out, title) -> None:
+    from ..fileio import guard_output
     from ..report.build import build_report
+    guard_output(out, results)
     n = build_report(results, out, title)
     typer.echo(f"wrote {out} ({n} pages from {len(results)} result file{'s' if len(results) > 1 else ''})")

@@ -22,5 +22,5 @@ def write_schema(out: Path | None) -> None:
     if out is None:
         typer.echo(text, nl=False)
         return
-    write_atomic(out, text)
+    write_atomic(out, text)     # the output guard refuses directories and devices
     typer.echo(f"wrote {out}", err=True)

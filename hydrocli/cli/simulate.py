@@ -27,12 +27,18 @@ def register(app: typer.Typer) -> None:
 def _run(machine, experiment, out, sets, rtol, backend) -> None:
     from ..api import load_experiment, load_machine   # the Python API: one path for CLI and notebooks
 
+    from ..fileio import guard_output
+    from .options import BACKENDS, check_choice, check_positive
+    check_choice("--backend", backend, BACKENDS)
+    check_positive("--rtol", rtol, upper=1.0)
+    guard_output(out, (machine, experiment))
     t0 = time.perf_counter()
     m = load_machine(machine, set=sets)
     model = m.model
     for w in model.warnings:
         typer.echo(f"warning: {w}", err=True)
     exp = load_experiment(experiment, m)
+    guard_output(out)                       # now that the recording an experiment names is known
     t1 = time.perf_counter()
     sim = m.simulate(exp, rtol=rtol, backend=backend)
     t2 = time.perf_counter()

@@ -56,13 +56,22 @@ def _parse_max_esr(items):
 
 
 def _run(machine, experiments, results, thresholds, cli_th, junit, markdown, out_dir, sets, rtol, backend) -> int:
-    from ..errors import DataError, Location, Problem
     from ..netlist.yamldoc import write_atomic
     from ..report import ci
     from ..runfiles import write_run
     from ..solve.simulate import SolverOptions
     from ..validate import Thresholds, Verdict, load_thresholds, validate_machine, validate_results
 
+    from ..fileio import guard_output, guard_output_dir
+    from .options import BACKENDS, check_choice, check_positive
+    check_choice("--backend", backend, BACKENDS)
+    check_positive("--rtol", rtol, upper=1.0)
+    inputs = (machine, thresholds, *experiments, *results)
+    for opt, path in (("--junit", junit), ("--markdown", markdown)):
+        if path is not None:
+            guard_output(path, inputs, opt)
+    if out_dir is not None:
+        guard_output_dir(out_dir, (), inputs, "--out-dir")
     th = (load_thresholds(thresholds) if thresholds else Thresholds()).overridden_by(cli_th)
     written: list[Path] = []
 
@@ -70,6 +79,7 @@ def _run(machine, experiments, results, thresholds, cli_th, junit, markdown, out
         if out_dir is not None:
             safe = re.sub(r"[^\w.-]+", "_", res.experiment or "result")
             path = _unique(Path(out_dir) / f"{safe}.h5", written)
+            guard_output(path, inputs, "--out-dir")
             write_run(path, res)
             written.append(path)
 
@@ -84,11 +94,7 @@ def _run(machine, experiments, results, thresholds, cli_th, junit, markdown, out
     _print(verdict)
     for path, text in ((junit, ci.junit_xml), (markdown, ci.markdown)):
         if path:
-            try:
-                write_atomic(path, text(verdict))
-            except OSError as exc:
-                raise DataError(Problem(f"cannot write {path}: {exc.strerror or exc}", Location(str(path)),
-                                        "choose a writable path")) from None
+            write_atomic(path, text(verdict))
     for p in written:
         typer.echo(f"wrote {p}")
     return verdict.exit_code

@@ -77,6 +77,39 @@ SIGNAL_IN = Port("in", Domain.SIGNAL, "input signal", direction="in")
 SIGNAL_OUT = Port("out", Domain.SIGNAL, "output signal", direction="out")
 
 
+#: Largest plausible magnitude of a parameter, by its SI unit (data, not code): a value beyond
+#: it is a typing or unit slip ("1e300 kg", a volume in mm³ read as m³), refused at load.
+MAGNITUDE_LIMITS: dict[str, float] = {
+    "kg": 1e8,            # mass: a large offshore crane's payload is ~1e7 kg
+    "kg*m^2": 1e10,       # moment of inertia
+    "Pa": 1e12,           # pressures, bulk and Young's moduli (steel 2.1e11 Pa)
+    "m^3": 1e2,           # oil volumes
+    "m^2": 1e2,           # areas
+    "m": 1e4,             # lengths, strokes
+    "s": 1e6,             # time constants, delays
+    "N": 1e10,            # forces
+    "N/m": 1e13,          # stiffnesses
+}
+DEFAULT_MAGNITUDE_LIMIT = 1e100  # any other unit (1e30 stands for "no leakage" in some files)
+
+
+#: States that cannot be negative (absolute pressures; the model's pressures are absolute).
+NON_NEGATIVE_STATE_UNITS = ("Pa",)
+
+
+def check_state_value(name: str, unit: str, value: float) -> str | None:
+    """A problem text for a non-physical initial state value (NaN, ±inf, a negative absolute
+    pressure, a magnitude beyond :data:`MAGNITUDE_LIMITS`), else None."""
+    if value != value or value in (float("inf"), float("-inf")):
+        return f"initial {name} must be a finite number (got {value})"
+    if unit in NON_NEGATIVE_STATE_UNITS and value < 0:
+        return f"initial {name} = {value:g} {unit} is below 0 Pa absolute (pressures are absolute)"
+    limit = MAGNITUDE_LIMITS.get(unit)
+    if limit is not None and abs(value) > limit:
+        return f"initial {name} = {value:g} {unit} is beyond the physical range (|value| ≤ {limit:g} {unit})"
+    return None
+
+
 @dataclass(frozen=True)
 class Param:
     """One parameter: SI unit, default, hard validity limits and identification bounds."""
@@ -97,9 +130,14 @@ class Param:
     def check(self, value) -> str | None:
         """A problem text when ``value`` is not valid for this parameter, else None."""
         values = value if isinstance(value, (list, tuple)) else [value]
+        limit = MAGNITUDE_LIMITS.get(self.unit.replace(" ", ""), DEFAULT_MAGNITUDE_LIMIT)
         for v in values:
             if v != v:
                 return f"{self.name} is NaN"
+            if v in (float("inf"), float("-inf")):
+                return f"{self.name} must be finite (got {v})"
+            if limit is not None and abs(v) > limit:
+                return f"{self.name} = {v:g} {self.unit} is beyond the physical range (|value| ≤ {limit:g} {self.unit})"
             if self.positive and v <= 0:
                 return f"{self.name} must be > 0 (got {v:g} {self.unit})"
             if self.min is not None and v < self.min:

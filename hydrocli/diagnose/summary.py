@@ -2,37 +2,17 @@
 summary (which output, where, which regime, which effect, ESR before → after)."""
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-import numpy as np
 
+from ..fileio import json_text
 from ..netlist import yamldoc as Y
 from . import augment
 
 
-def _plain(o):
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    if isinstance(o, np.generic):
-        return o.item()
-    raise TypeError(f"not JSON serialisable: {type(o)}")
-
-
-def _finite(o):
-    """NaN and ±inf as null: diagnosis.json must be strict JSON."""
-    if isinstance(o, float) and not np.isfinite(o):
-        return None
-    if isinstance(o, dict):
-        return {k: _finite(v) for k, v in o.items()}
-    if isinstance(o, (list, tuple)):
-        return [_finite(v) for v in o]
-    return o
-
-
 def write_json(diag, path: Path) -> None:
-    data = json.loads(json.dumps(diag.data, default=_plain, allow_nan=True))
-    Y.write_atomic(path, json.dumps(_finite(data), indent=1, allow_nan=False))
+    """diagnosis.json, strict JSON (NaN and ±inf as null), written atomically."""
+    Y.write_atomic(path, json_text(diag.data))
 
 
 def write_proposals(diag, out_dir: Path) -> list[Path]:

@@ -15,6 +15,7 @@ from ..errors import Location
 from ..netlist import yamldoc as Y
 from ..units import parse_unit, registry, si_factor, to_si
 from .signals import is_signal, signal
+from .unit_check import check_column
 
 
 class ChannelsMixin:
@@ -39,6 +40,7 @@ class ChannelsMixin:
             from ..suggest import suggest
             self.fail(f"unknown column '{col}' in {rec.file}{suggest(col, list(rec.columns))}", loc,
                       f"columns: {', '.join(rec.columns)}")
+        check_column(rec, col, unit, spec, loc, f"{section}.{name}")
         y = rec.columns[col]
         bad = np.flatnonzero(~np.isfinite(y))
         if bad.size and not nan_ok:

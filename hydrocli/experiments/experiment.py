@@ -15,7 +15,8 @@ import numpy as np
 from ..errors import DataError, Location, Problem
 from ..model.model import Model
 from ..solve.simulate import InputTable
-from .recording import Recording
+from .recording import Recording, read_csv
+from .unit_check import check_recording_columns
 
 
 @dataclass
@@ -44,6 +45,7 @@ def experiment_from_recording(rec: Recording, model: Model, name: str) -> Experi
             f"recording has no column for machine input(s) {', '.join(missing)} "
             f"(columns: {', '.join(rec.columns)})", Location(rec.file, 1, 1),
             "name the CSV columns like the machine's inputs, or write an experiment file that maps them"))
+    check_recording_columns(rec, model)
     U = np.column_stack([rec.columns[n] for n in model.input_names]) if model.input_names else np.zeros((rec.t.size, 0))
     measured = {o: rec.columns[o] for o in model.output_names if o in rec.columns}
     return Experiment(name=name, file=rec.file, inputs=InputTable(rec.t, U), t_out=rec.t.copy(), measured=measured)

@@ -48,7 +48,9 @@ from ..units import si_factor, to_si
 from .experiment import Experiment, experiment_from_recording
 from .recording import Recording, read_csv, read_recording
 from .channels import ChannelsMixin
+from .spec_check import check_spec
 from .steps import StepsMixin
+from .unit_check import check_samples, checked_quantity
 
 KEYS = ("name", "description", "data", "time", "inputs", "outputs", "measured", "window", "initial", "settle",
         "preprocess", "mask", "fit", "weights", "thresholds", "max_esr", "duration", "rate", "experiments")
@@ -134,14 +136,17 @@ class _Builder(ChannelsMixin, StepsMixin):
         raise DataError(Problem(msg, loc, hint))
 
     def time(self, x, *keys) -> float:
-        return to_si(x, "s", location=self.loc(*keys), what=".".join(map(str, keys)))
+        what, loc = ".".join(map(str, keys)), self.loc(*keys)
+        return checked_quantity(to_si(x, "s", location=loc, what=what), loc, what)
 
     def rate(self, x, *keys) -> float:
-        return to_si(x, "Hz", location=self.loc(*keys), what=".".join(map(str, keys)))
+        what, loc = ".".join(map(str, keys)), self.loc(*keys)
+        return checked_quantity(to_si(x, "Hz", location=loc, what=what), loc, what, positive=True)
 
     # -- the pipeline ---------------------------------------------------------------
     def build(self) -> Experiment:
         s = self.spec
+        check_spec(self)
         outputs_spec = s.get("outputs") if s.get("outputs") is not None else s.get("measured") or {}
         inputs_spec = s.get("inputs") or {}
         rec = self.recording()
@@ -201,6 +206,8 @@ class _Builder(ChannelsMixin, StepsMixin):
                       "with designed input signals")
         T = self.time(self.spec["duration"], "duration")
         fs = self.rate(self.spec.get("rate", "1 kHz"), "rate")
+        checked_quantity(T, self.loc("duration"), "duration", positive=True)
+        check_samples(T, fs, self.loc("duration"), "duration")
         return np.arange(int(round(T * fs)) + 1) / fs
 
     def initial(self, exp: Experiment) -> None:

@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..fileio import note_input
+from .unit_check import check_time_unit
 from ..errors import DataError, Location, Problem
 from ..units import si_factor
 
@@ -40,6 +42,7 @@ class Recording:
 def read_csv(path: str | Path, time_column: str | None = None, check_columns: bool = True) -> Recording:
     """CSV with a header row ``t[s],u[%],P1[bar],…``; the first column is time unless named."""
     path = Path(path)
+    note_input(path)
     try:
         with open(path, newline="", encoding="utf-8") as fh:
             reader = csv.reader(fh)
@@ -86,6 +89,7 @@ def read_csv(path: str | Path, time_column: str | None = None, check_columns: bo
                                 Location(str(path), 1, 1)))
     cols = {n: data[:, j] * factors[n] for j, n in enumerate(names)}
     rec = Recording(str(path), cols.pop(tname), cols, dict(zip(names, units)), first_row=2)
+    check_time_unit(rec, tname)
     check_recording(rec, row_offset=2, check_columns=check_columns)
     return rec
 
@@ -162,10 +166,12 @@ def _assemble(file: str, cols: dict, units: dict, time_column: str | None, check
     if tname is None or tname not in cols:
         raise DataError(Problem(f"time column '{time_column or 't'}' not found (signals: {', '.join(cols) or 'none'})",
                                 Location(file), "name the time column with 'time:' in the experiment file"))
+    note_input(file)
     t = cols.pop(tname)
     other = {k: v.size for k, v in cols.items() if v.size != t.size}
     cols = {k: v for k, v in cols.items() if v.size == t.size}
     rec = Recording(file, t, cols, units, other)
+    check_time_unit(rec, tname)
     check_recording(rec, check_columns=check_columns)
     return rec
 

@@ -24,6 +24,7 @@ import numpy as np
 
 from ..errors import DataError, Location, Problem
 from ..units import si_factor, si_unit, to_si
+from .unit_check import checked_quantity
 
 KINDS = ("step", "ramp", "sine", "chirp", "table", "sum", "constant")
 
@@ -35,13 +36,14 @@ class SignalSpec:
         self.unit, self.loc = unit or "1", loc
 
     def value(self, x, what: str) -> float:
-        return to_si(x, si_unit(self.unit), default_unit=self.unit, location=self.loc, what=what)
+        return checked_quantity(to_si(x, si_unit(self.unit), default_unit=self.unit, location=self.loc, what=what),
+                                self.loc, what)
 
     def time(self, x, what: str) -> float:
-        return to_si(x, "s", location=self.loc, what=what)
+        return checked_quantity(to_si(x, "s", location=self.loc, what=what), self.loc, what)
 
     def freq(self, x, what: str) -> float:
-        return to_si(x, "Hz", location=self.loc, what=what)
+        return checked_quantity(to_si(x, "Hz", location=self.loc, what=what), self.loc, what)
 
     def fail(self, msg: str, hint: str | None = None):
         raise DataError(Problem(msg, self.loc, hint or f"signal kinds: {', '.join(KINDS)}"))

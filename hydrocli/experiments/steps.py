@@ -7,6 +7,7 @@ import numpy as np
 from ..netlist import yamldoc as Y
 from ..units import dimensionality, to_si
 from . import preprocess as pp
+from .unit_check import check_samples
 
 
 class StepsMixin:
@@ -44,6 +45,7 @@ class StepsMixin:
                                                         self.rate(lp.get("cutoff"), "preprocess", "lowpass", "cutoff"), loc), np.nan)
         if pre.get("resample") is not None:
             fs = self.rate(pre["resample"], "preprocess", "resample")
+            check_samples(float(t[-1] - t[0]), fs, self.loc("preprocess", "resample"), "preprocess.resample")
             hold = {n for n in ins if self.model.input_hold.get(n) == "zoh"}
             tn, ins = pp.resample(t, ins, fs, hold)
             _, outs = pp.resample(t, outs, fs)

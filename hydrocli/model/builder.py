@@ -15,8 +15,9 @@ import hashlib
 import numpy as np
 
 from ..components import registry
+from ..components.base import check_state_value
 from ..suggest import suggest
-from ..errors import HydroError, NetlistError, ProblemCollector, TopologyError
+from ..errors import HydroError, NetlistError, ProblemCollector, TopologyError, UnitError
 from ..graph.linear import LinearGraph
 from ..graph.topology import check_domains, input_branches, normal_tree
 from ..netlist.model import Netlist
@@ -48,8 +49,9 @@ def build_model(net: Netlist) -> Model:
     for o in net.outputs.values():
         try:
             output_exprs[o.name] = parse_expression(o.expr, resolve)
-        except ExprSyntaxError as exc:
-            errs.add(f"output '{o.name}': {exc}", o.loc, "outputs use node quantities such as "
+        except (ExprSyntaxError, TypeError, ValueError, ArithmeticError, RecursionError) as exc:
+            why = str(exc) if isinstance(exc, ExprSyntaxError) else _expr_failure(exc)
+            errs.add(f"output '{o.name}': {why}", o.loc, "outputs use node quantities such as "
                      "'chamber_a.p', 'load.x', 'load.v' or component variables")
     errs.raise_if_any(TopologyError)
     missing = [s for s in states if s not in asm.derivatives]
@@ -72,12 +74,21 @@ def build_model(net: Netlist) -> Model:
     param_infos = [_param_info(net, name, *asm.params[name]) for name in params]
     out_units = {o.name: o.unit for o in net.outputs.values()}
     normal = normalised_text(net)
-    return Model(name=net.name, netlist_sha=hashlib.sha256(normal.encode()).hexdigest(),
-                 equations=eqs, states=state_infos, x0=x0, params=param_infos,
-                 input_units={k: v.unit for k, v in net.inputs.items()},
-                 input_hold={k: v.hold for k, v in net.inputs.items()},
-                 output_units=out_units, variable_units=dict(asm.variable_units),
-                 warnings=list(asm.warnings), netlist_text=normal, file=net.file)
+    model = Model(name=net.name, netlist_sha=hashlib.sha256(normal.encode()).hexdigest(),
+                  equations=eqs, states=state_infos, x0=x0, params=param_infos,
+                  input_units={k: v.unit for k, v in net.inputs.items()},
+                  input_hold={k: v.hold for k, v in net.inputs.items()},
+                  output_units=out_units, variable_units=dict(asm.variable_units),
+                  warnings=list(asm.warnings), netlist_text=normal, file=net.file)
+    from .output_units import check_output_units
+    ProblemCollector.raise_if_any(_collected(check_output_units(model, net.outputs)), UnitError)
+    return model
+
+
+def _collected(problems):
+    c = ProblemCollector()
+    c.problems.extend(problems)
+    return c
 
 
 def stamp(net: Netlist) -> tuple[Assembly, LinearGraph]:
@@ -134,6 +145,9 @@ def _apply_initial(net: Netlist, infos, x0, errs: ProblemCollector) -> None:
             unit = infos[idx[name]].unit
             default = net.unit_defaults.get(dimensionality(unit)) if unit not in ("", "1") else None
             x0[idx[name]] = to_si(pv.value, unit, default_unit=default, location=pv.loc, what=f"initial {name}")
+            problem = check_state_value(name, unit, x0[idx[name]])
+            if problem:
+                errs.add(problem, pv.loc, "give a physically valid initial value")
         except HydroError as exc:
             errs.extend(exc)
 
@@ -169,3 +183,14 @@ class _Resolver:
 
     def known(self):
         return list(self.asm.variables) + list(self.asm.states) + list(self.params) + list(self.inputs)
+
+
+def _expr_failure(exc: Exception) -> str:
+    """A readable reason for an output expression that parses but cannot be evaluated."""
+    if isinstance(exc, RecursionError):
+        return "the expression is nested too deeply"
+    if isinstance(exc, ZeroDivisionError):
+        return "division by zero"
+    if isinstance(exc, (OverflowError, ValueError)):
+        return f"a constant part cannot be evaluated ({exc})"
+    return f"wrong number or kind of arguments ({exc})"

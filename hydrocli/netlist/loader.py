@@ -25,9 +25,14 @@ TOP_KEYS = ("name", "description", "units", "fluid", "include", "templates", "in
             "components", "initial", "notes")
 MAP_SECTIONS = ("units", "fluid", "templates", "inputs", "outputs", "components", "initial")
 COMPONENT_KEYS = ("type", "ports", "description")
-FLUID_PROPS = {"beta": "Pa", "rho": "kg/m^3", "nu": "m^2/s", "p_tank": "Pa"}
-UNIT_KEYS = ("pressure", "length", "area", "volume", "flow", "mass", "force", "time", "velocity",
-             "angle", "torque", "inertia", "stiffness", "damping", "flow_gain", "leakage")
+FLUID_PROPS = {"beta": "Pa", "rho": "kg/m^3", "nu": "m^2/s", "p_tank": "Pa", "p_vap": "Pa"}
+MAX_INCLUDES = 200       # included files read for one machine (a diamond of includes grows fast)
+#: file-level default-unit categories and the SI unit whose dimension each must have
+UNIT_CATEGORIES = {"pressure": "Pa", "length": "m", "area": "m^2", "volume": "m^3", "flow": "m^3/s", "mass": "kg",
+                   "force": "N", "time": "s", "velocity": "m/s", "angle": "rad", "torque": "N*m",
+                   "inertia": "kg*m^2", "stiffness": "N/m", "damping": "N*s/m", "flow_gain": "m^3/s/Pa^0.5",
+                   "leakage": "m^3/s/Pa"}
+UNIT_KEYS = tuple(UNIT_CATEGORIES)
 
 
 def load_netlist(path: str | Path) -> Netlist:
@@ -42,7 +47,7 @@ def load_netlist_text(text: str, file: str = "<machine>") -> Netlist:
 def load_doc(doc, file: str, text: str = "") -> Netlist:
     """Check and convert a parsed machine document; all problems are raised together."""
     errs = Errors()
-    sections = _merge_includes(doc, file, errs, seen=(str(Path(file).resolve()),))
+    sections = _merge_includes(doc, file, errs, seen=(str(Path(file).resolve()),), budget=[MAX_INCLUDES])
     defaults = _unit_defaults(sections.get("units"), errs)
     fluid = _load_fluid(sections.get("fluid"), defaults, errs)
     components = {}
@@ -66,7 +71,7 @@ def load_doc(doc, file: str, text: str = "") -> Netlist:
 
 
 # -- sections ----------------------------------------------------------------------------
-def _merge_includes(doc, file: str, errs: Errors, seen: tuple[str, ...]) -> dict:
+def _merge_includes(doc, file: str, errs: Errors, seen: tuple[str, ...], budget: list[int]) -> dict:
     """Sections of this file merged over those of its includes.
 
     Mapping sections become {key: (value, parent map, file)} so every entry keeps its own
@@ -91,12 +96,19 @@ def _merge_includes(doc, file: str, errs: Errors, seen: tuple[str, ...]) -> dict
             errs.add(f"included file '{rel}' not found (looked for {path})", loc,
                      "include paths are relative to the including file")
             continue
+        budget[0] -= 1
+        if budget[0] < -1:
+            return merged
+        if budget[0] < 0:
+            errs.add(f"more than {MAX_INCLUDES} included files are read for this machine (includes that "
+                     "include each other many times?)", loc, "include each shared file once, from the top file")
+            return merged
         try:
             sub, _ = Y.load_file(path)
         except HydroError as exc:
             errs.extend(exc)
             continue
-        _merge_into(merged, _merge_includes(sub, str(path), errs, seen + (key,)))
+        _merge_into(merged, _merge_includes(sub, str(path), errs, seen + (key,), budget))
     own = {}
     for k, v in doc.items():
         if k in ("include", "name", "description", "notes") or k not in TOP_KEYS:
@@ -126,8 +138,19 @@ def _unit_defaults(section, errs: Errors) -> dict[str, str]:
             errs.add(f"unknown unit category '{key}'{suggest(str(key), UNIT_KEYS)}",
                      Y.key_loc(parent, key, f, f"units.{key}"), f"categories: {', '.join(UNIT_KEYS)}")
             continue
+        loc = Y.value_loc(parent, key, f, f"units.{key}")
+        want = UNIT_CATEGORIES[key]
+        if not isinstance(unit, str) or not unit.strip():
+            errs.add(f"units.{key}: expected a unit name such as '{want}', got {unit!r}", loc,
+                     f"e.g. units: {{{key}: {want}}}")
+            continue
         try:
-            out[dimensionality(str(unit))] = str(unit)
+            dim = dimensionality(unit)
+            if dim != dimensionality(want):
+                errs.add(f"units.{key}: '{unit}' is not a {key} unit (it has dimension {dim}, "
+                         f"a {key} has {dimensionality(want)})", loc, f"give a unit convertible to {want}")
+                continue
+            out[dim] = unit
         except HydroError as exc:
             errs.extend(type(exc)([p.at(Y.value_loc(parent, key, f, f"units.{key}")) for p in exc.problems]))
     return out
@@ -189,13 +212,8 @@ def _load_component(name: str, src: CompSource, defaults, fluid, errs) -> Compon
             continue
         spec = cls.param(key)
         pv = param_value(val, spec.unit, src, key, f"{src.ypath}.{key}", defaults, errs, vector=spec.vector)
-        if pv is None:
-            continue
-        problem = spec.check(pv.value)
-        if problem:
-            errs.add(f"'{name}': {problem}", pv.loc, "give a physically valid value")
-            continue
-        params[str(key)] = pv
+        if pv is not None and check_param(name, spec, pv, errs):
+            params[str(key)] = pv
     ok = _defaults(name, cls, params, fluid, loc, errs)
     if ok:
         for problem in cls().check({k: v.value for k, v in params.items()}):
@@ -236,6 +254,9 @@ def _defaults(name, cls, params, fluid, loc, errs) -> bool:
             continue
         if spec.fluid and spec.fluid in fluid:
             fv = fluid[spec.fluid]
+            if not check_param(name, spec, fv, errs):
+                ok = False
+                continue
             params[spec.name] = ParamValue(fv.value, fv.loc, fv.free, fv.bounds, fv.unit, fv.log, given=False)
         elif spec.default is not None:
             params[spec.name] = ParamValue(list(spec.default) if spec.vector else spec.default, loc, given=False)
@@ -244,6 +265,28 @@ def _defaults(name, cls, params, fluid, loc, errs) -> bool:
             errs.add(f"'{name}' ({cls.type}) needs parameter '{spec.name}' [{spec.unit}]: {spec.description}", loc,
                      f"add '{spec.name}: <value>' to '{name}'")
     return ok
+
+
+def check_param(name: str, spec, pv: ParamValue, errs: Errors) -> bool:
+    """The one check of a parameter value against its spec's physical range (finite, sign,
+    min/max, plausible magnitude), of its identification bounds against the same range, and
+    of a free start value against its bounds. False (and a located problem) when it fails."""
+    problem = spec.check(pv.value)
+    if problem:
+        errs.add(f"'{name}': {problem}", pv.loc, "give a physically valid value")
+        return False
+    if pv.bounds is not None:
+        problem = spec.check(list(pv.bounds))
+        if problem:
+            errs.add(f"'{name}': bounds {list(pv.bounds)} leave the physical range: {problem}", pv.loc,
+                     "give bounds inside the parameter's valid range ('hydro components TYPE' lists it)")
+            return False
+        if pv.free and not spec.vector and not pv.bounds[0] <= pv.value <= pv.bounds[1]:
+            errs.add(f"'{name}': start value {pv.value:g} {spec.unit} is outside its bounds "
+                     f"[{pv.bounds[0]:g}, {pv.bounds[1]:g}] {spec.unit}", pv.loc,
+                     "move the value inside the bounds or widen them (it would be clipped silently)")
+            return False
+    return True
 
 
 def _check_keys(m, allowed, file, errs, what="key", ypath="") -> None:

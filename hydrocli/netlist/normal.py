@@ -2,6 +2,8 @@
 identifies a machine in result files regardless of comments, units or layout."""
 from __future__ import annotations
 
+import hashlib
+
 import io
 
 from ruamel.yaml import YAML
@@ -32,3 +34,8 @@ def _plain(v):
     if isinstance(v, list):
         return [float(x) for x in v]
     return float(v) if isinstance(v, (int, float)) else str(v)
+
+
+def netlist_sha256(net: Netlist) -> str:
+    """sha256 of the normalised netlist text (the /meta attribute of every result)."""
+    return hashlib.sha256(normalised_text(net).encode()).hexdigest()

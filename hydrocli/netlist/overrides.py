@@ -6,7 +6,7 @@ import dataclasses
 
 from ..components import registry
 from ..suggest import suggest
-from ..errors import HydroError, Location, NetlistError, Problem
+from ..errors import HydroError, Location, NetlistError, Problem, UsageError
 from .model import Netlist
 from .params import Errors, convert
 
@@ -15,7 +15,7 @@ def parse_assignment(item: str) -> tuple[str, str]:
     """``"valve.Kv=5e-7"`` → ``("valve.Kv", "5e-7")``."""
     name, eq, value = item.partition("=")
     if not eq or not name.strip() or not value.strip() or "." not in name:
-        raise NetlistError(Problem(f"--set '{item}': expected COMPONENT.PARAMETER=VALUE", Location(path="--set"),
+        raise UsageError(Problem(f"--set '{item}': expected COMPONENT.PARAMETER=VALUE", Location(path="--set"),
                                    "e.g. --set valve.Kv=5e-7 or --set cylinder.V_A0='0.2 L'"))
     return name.strip(), value.strip()
 
@@ -24,7 +24,7 @@ def apply_overrides(net: Netlist, items: list[str] | tuple[str, ...]) -> Netlist
     """A copy of ``net`` with parameters replaced; values may carry units ("0.2 L").
 
     A bare number is read like one in the machine file (file default unit, else SI).
-    Every bad item is reported together (NetlistError / UnitError, exit 3).
+    Every bad item is reported together as a usage error (exit 2): the command line is wrong.
     """
     if not items:
         return net
@@ -35,7 +35,7 @@ def apply_overrides(net: Netlist, items: list[str] | tuple[str, ...]) -> Netlist
             _apply_one(out, item)
         except HydroError as exc:
             errs.extend(exc)
-    errs.raise_all(NetlistError)
+    errs.raise_if_any(UsageError)          # units too: the command line is what is wrong
     out.text = net.text.rstrip("\n") + "\n" + "".join(f"# --set {i}\n" for i in items)
     return out
 

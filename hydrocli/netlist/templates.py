@@ -29,6 +29,7 @@ INSTANCE_KEYS = ("template", "ports", "description")
 TEMPLATE_KEYS = ("ports", "components", "description")
 GLOBAL_NODES = ("ground",)
 MAX_DEPTH = 8
+MAX_COMPONENTS = 5_000   # components after template expansion (a self-nesting template grows fast)
 
 
 @dataclass
@@ -81,17 +82,33 @@ def expand_templates(components, templates, errs: ProblemCollector) -> dict[str,
         return out
     for name, (cmap, parent, file) in components.items():
         _expand(CompSource(cmap, file, f"components.{name}"), str(name), tdefs, errs, out, 0)
+        if len(out) > MAX_COMPONENTS:
+            errs.add(f"the machine has more than {MAX_COMPONENTS} components (after expanding templates)",
+                     Y.key_loc(parent, name, file, f"components.{name}"),
+                     "split the machine; check that no template instantiates itself")
+            break
     return out
 
 
-def _expand(src: CompSource, name: str, tdefs, errs, out, depth) -> None:
+def _expand(src: CompSource, name: str, tdefs, errs, out, depth, chain: tuple[str, ...] = ()) -> None:
+    if len(out) > MAX_COMPONENTS:
+        return
     if Y.is_map(src.cmap) and "template" in src.cmap:
-        _expand_instance(name, src, tdefs, errs, out, depth)
+        tname = str(src.cmap["template"])
+        if tname in chain:
+            errs.add(f"template '{tname}' instantiates itself (via {' -> '.join(chain + (tname,))})",
+                     src.value_loc("template"), "a template must not contain an instance of itself")
+            return
+        _expand_instance(name, src, tdefs, errs, out, depth, chain + (tname,))
     else:
+        if name in out:
+            errs.add(f"two components are both named '{name}' (a component written '{name}' and one "
+                     "expanded from a template instance)", src.node_loc(), "rename one of them")
+            return
         out[name] = src
 
 
-def _expand_instance(inst, src: CompSource, tdefs, errs, out, depth) -> None:
+def _expand_instance(inst, src: CompSource, tdefs, errs, out, depth, chain=()) -> None:
     cmap = src.cmap
     tname = str(cmap["template"])
     if depth > MAX_DEPTH:
@@ -157,4 +174,4 @@ def _expand_instance(inst, src: CompSource, tdefs, errs, out, depth) -> None:
             clone[rest] = v
             locs[rest] = vloc
         child = CompSource(clone, tfile, f"templates.{tname}.components.{cname}", locs, instance=inst)
-        _expand(child, f"{inst}.{cname}", tdefs, errs, out, depth + 1)
+        _expand(child, f"{inst}.{cname}", tdefs, errs, out, depth + 1, chain)

@@ -23,7 +23,7 @@ from . import yamldoc as Y
 from .model import Netlist
 from .params import unit_of
 
-FLUID_UNITS = {"beta": "Pa", "rho": "kg/m^3", "nu": "m^2/s", "p_tank": "Pa"}
+FLUID_UNITS = {"beta": "Pa", "rho": "kg/m^3", "nu": "m^2/s", "p_tank": "Pa", "p_vap": "Pa"}
 DIGITS = 6
 
 
@@ -34,6 +34,60 @@ def set_parameters(net: Netlist, values: dict[str, float | list[float]]) -> str:
     for name, value in values.items():
         _Slot(net, doc, name).set_value(value)
     return Y.dump_text(doc)
+
+
+def check_write_back(net: Netlist, names) -> None:
+    """Raise the located NetlistError that :func:`set_parameters` would raise for ``names``,
+    without writing anything: identification calls this BEFORE a long fit."""
+    doc = _copy(net)
+    for name in names:
+        _Slot(net, doc, name)
+
+
+def write_back(net: Netlist, values: dict, out) -> str:
+    """Write the machine with ``values`` (SI) to ``out`` and return the new text.
+
+    A parameter of a component defined in an included file is written by copying that
+    component into the output file (an including file's entries replace the included ones,
+    so the output loads the same machine; the included file itself is never changed).
+    Include paths are rewritten relative to ``out``'s folder, and the original file's line
+    ends (CRLF or LF) are kept.
+    """
+    import os
+    from pathlib import Path
+
+    from ..fileio import newline_of, write_text_atomic
+    doc = _copy(net)
+    for name, value in values.items():
+        _Slot(net, doc, name).set_value(value)
+    _rebase_includes(doc, Path(net.file).parent, Path(out).parent)
+    text = Y.dump_text(doc)
+    write_text_atomic(out, text, newline=newline_of(net.file) if os.path.exists(net.file) else None)
+    return text
+
+
+def identified_netlist(text: str, out) -> tuple[str, str]:
+    """(sha256, normalised text) of the machine written to ``out``: a result simulated with the
+    identified values records the netlist that reproduces it, not the original one."""
+    from .loader import load_netlist_text
+    from .normal import netlist_sha256, normalised_text
+    net = load_netlist_text(text, str(out))
+    return netlist_sha256(net), normalised_text(net)
+
+
+def _rebase_includes(doc, src_dir, dst_dir) -> None:
+    import os
+    inc = doc.get("include")
+    if inc is None or src_dir.resolve() == dst_dir.resolve():
+        return
+    items = list(inc) if Y.is_seq(inc) else [inc]
+    new = [os.path.relpath((src_dir / str(rel)).resolve(), dst_dir.resolve()) if isinstance(rel, str) else rel
+           for rel in items]
+    if Y.is_seq(inc):
+        for i, v in enumerate(new):
+            inc[i] = v
+    else:
+        doc["include"] = new[0]
 
 
 def set_free(net: Netlist, name: str, free: bool, bounds: tuple[float, float] | None = None) -> str:
@@ -118,8 +172,12 @@ def _components(doc, net: Netlist) -> CommentedMap:
     return doc["components"]
 
 
-def _top_component(net: Netlist, doc, name: str) -> CommentedMap:
+def _top_component(net: Netlist, doc, name: str, copy_included: bool = False) -> CommentedMap:
     comps = _components(doc, net)
+    if name not in comps and copy_included:
+        included = _included_component(net, name)
+        if included is not None:
+            comps[name] = included
     if name not in comps:
         where = net.components[name].loc.file if name in net.components else None
         hint = (f"it is defined in {where}; edit that file" if where and where != net.file else
@@ -127,6 +185,30 @@ def _top_component(net: Netlist, doc, name: str) -> CommentedMap:
         raise NetlistError(_problem(f"component '{name}' is not written in {net.file}"
                                     f"{suggest(name, list(map(str, comps)))}", net, hint))
     return comps[name]
+
+
+def _included_component(net: Netlist, name: str):
+    """A copy of component (or template instance) ``name`` as written in an included file
+    (the nearest one, as the loader merges them), or None."""
+    from pathlib import Path
+    todo, seen = [(Path(net.file), net.doc)], set()
+    while todo:
+        file, doc = todo.pop(0)
+        inc = doc.get("include") if Y.is_map(doc) else None
+        for rel in (list(inc) if Y.is_seq(inc) else [inc] if inc else []):
+            path = (file.parent / str(rel)).resolve()
+            if path in seen or not path.is_file():
+                continue
+            seen.add(path)
+            try:
+                sub, _ = Y.load_file(path)
+            except Exception:
+                continue
+            comps = sub.get("components")
+            if Y.is_map(comps) and Y.is_map(comps.get(name)):
+                return copy.deepcopy(comps[name])
+            todo.append((path, sub))
+    return None
 
 
 def _is_num(v) -> bool:
@@ -175,11 +257,11 @@ class _Slot:
                                         "parameter names are COMPONENT.PARAMETER, e.g. valve.Kv"))
         self.si_unit, self.pv = spec.unit, decl.params.get(self.pname)
         comps = _components(doc, net)
-        if comp in comps:
+        if comp in comps or (decl.template is None and _top_component(net, doc, comp, copy_included=True)):
             self.map, self.key = comps[comp], self.pname
         else:  # a template instance: write the override on the instance
             inst, _, inner = comp.partition(".")
-            self.map = _top_component(net, doc, inst)
+            self.map = _top_component(net, doc, inst, copy_included=True)
             self.key = f"{inner}.{self.pname}"
 
     # the unit a number is written in, and whether it is a "value unit" string

@@ -16,6 +16,13 @@ from ruamel.yaml.error import MarkedYAMLError
 
 from ..errors import Location, NetlistError, Problem
 
+#: Limits of the safe loader: a hostile or careless file is refused in well under a second
+#: instead of hanging ("billion laughs" alias bombs, megabyte files, absurd nesting).
+MAX_BYTES = 1_000_000          # a machine or experiment file is a few kB
+MAX_NODES = 200_000            # values visited with aliases expanded (each alias counts again)
+MAX_DEPTH = 50                 # nesting of mappings/lists
+MAX_ALIASES = 1_000            # '*name' references in one file
+
 
 def _yaml() -> YAML:
     y = YAML(typ="rt")
@@ -28,8 +35,12 @@ def _yaml() -> YAML:
 def load_text(text: str, file: str) -> CommentedMap:
     """Parse YAML text safely (plain data only); syntax errors, duplicate keys and YAML tags
     become located NetlistErrors."""
+    _check_text(text, file)
     try:
         doc = _yaml().load(text)
+    except RecursionError:
+        raise NetlistError(Problem(f"the YAML is nested too deeply (more than {MAX_DEPTH} levels)",
+                                   Location(file, 1, 1), "flatten the file")) from None
     except DuplicateKeyError as exc:
         raise NetlistError(_duplicate_problem(exc, file)) from None
     except MarkedYAMLError as exc:
@@ -43,10 +54,71 @@ def load_text(text: str, file: str) -> CommentedMap:
         raise NetlistError(Problem(f"the file must be a YAML mapping (key: value lines) at the top level, "
                                    f"not a {kind(doc)}", Location(file, 1, 1),
                                    "start with keys such as 'name:', 'components:', 'inputs:'"))
+    _check_expansion(doc, file)
     tagged = list(_tagged(doc, file, ""))
     if tagged:
         raise NetlistError(tagged)
     return doc
+
+
+def _check_text(text: str, file: str) -> None:
+    """Refuse files too large to be a machine or experiment, or with too many aliases,
+    before parsing them (parsing megabytes of YAML takes minutes)."""
+    if len(text) > MAX_BYTES:
+        raise NetlistError(Problem(f"the file is {len(text) / 1e6:.1f} MB; a machine or experiment file is "
+                                   f"limited to {MAX_BYTES / 1e6:g} MB", Location(file, 1, 1),
+                                   "put recorded data in a CSV/HDF5 file and use templates for repeated circuits"))
+    depth = 0
+    for m in re.finditer(r"[\[\]{}]", text):
+        depth = depth + 1 if m.group() in "[{" else max(depth - 1, 0)
+        if depth > MAX_DEPTH:
+            line = text.count("\n", 0, m.start()) + 1
+            raise NetlistError(Problem(f"the YAML is nested more than {MAX_DEPTH} levels deep",
+                                       Location(file, line, m.start() - text.rfind("\n", 0, m.start())),
+                                       "flatten the file"))
+    n_alias = len(re.findall(r"(?:^|[\s\[{,:])\*[^\s,\]}]+", text))
+    if n_alias > MAX_ALIASES:
+        raise NetlistError(Problem(f"the file uses {n_alias} YAML aliases ('*name'); at most {MAX_ALIASES} are allowed",
+                                   Location(file, 1, 1), "use templates or includes instead of many aliases"))
+
+
+def _check_expansion(doc, file: str) -> None:
+    """Walk the parsed document the way every later stage will, counting each aliased value
+    again: refuse alias bombs (exponential expansion), self-referencing aliases and deep
+    nesting with a located message."""
+    count = 0
+    stack = [(doc, 0, "", ())]
+    while stack:
+        node, depth, ypath, chain = stack.pop()
+        count += 1
+        if count > MAX_NODES:
+            raise NetlistError(Problem(f"the YAML expands to more than {MAX_NODES} values once its aliases "
+                                       "('*name') are expanded (an alias bomb?)", _where(node, file, ypath),
+                                       "use templates or includes instead of nested aliases"))
+        if depth > MAX_DEPTH:
+            raise NetlistError(Problem(f"the YAML is nested more than {MAX_DEPTH} levels deep",
+                                       _where(node, file, ypath), "flatten the file"))
+        if isinstance(node, CommentedMap):
+            items = node.items()
+        elif isinstance(node, CommentedSeq):
+            items = enumerate(node)
+        else:
+            continue
+        if id(node) in chain:
+            raise NetlistError(Problem("a YAML alias refers to a value that contains it (a recursive alias)",
+                                       _where(node, file, ypath), "remove the '*name' inside '&name'"))
+        sub_chain = chain + (id(node),)
+        for k, v in items:
+            if isinstance(v, (CommentedMap, CommentedSeq)):
+                stack.append((v, depth + 1, f"{ypath}.{k}" if ypath else str(k), sub_chain))
+            else:
+                count += 1
+
+
+def _where(node, file: str, ypath: str) -> Location:
+    parts = ypath.split(".")
+    ypath = ".".join(parts[:4]) + (".…" if len(parts) > 4 else "")
+    return node_loc(node, file, ypath) if isinstance(node, (CommentedMap, CommentedSeq)) else Location(file, 1, 1, ypath)
 
 
 def _mark_loc(mark, file: str) -> Location:
@@ -100,7 +172,9 @@ def _tagged(node, file: str, ypath: str):
 
 
 def load_file(path: str | Path) -> tuple[CommentedMap, str]:
+    from ..fileio import note_input
     p = Path(path)
+    note_input(p)
     try:
         text = p.read_text(encoding="utf-8")
     except FileNotFoundError:

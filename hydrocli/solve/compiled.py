@@ -418,3 +418,9 @@ def _message(status: int, st: dict) -> str:
     if status >= 100:
         return f"model returned status {status - 100} at t={t:.6g} s"
     return STATUS_MESSAGES.get(status, f"integrator error {status}") + f" (status {status})"
+
+
+# -- the explicit, cached, warned fallback to the Python backend ----------------------------
+#: sha256 of a model's C source → why the compiled backend is unavailable for it (this process)
+
+

@@ -94,15 +94,15 @@ def simulate(model: Model, inputs: InputTable, t_out: np.ndarray, p: np.ndarray 
     t_out = np.asarray(t_out, dtype=float)
     backend = opts.backend
     if backend in ("auto", "compiled"):
-        try:
-            lib = compiled(model)
-        except Exception as exc:  # no compiler: fall back unless compiled was demanded
-            if backend == "compiled":
-                raise SolverError(f"cannot compile the model: {exc}",
-                                  hint="install a C compiler (gcc) or use --backend python") from None
-            backend = "python"
-        else:
+        from .library import _UNAVAILABLE, compiled_or_none
+        lib = compiled_or_none(model)                 # explicit, cached, warned fallback
+        if lib is not None:
             return _run_compiled(model, lib, inputs, t_out, p, x0, opts)
+        if backend == "compiled":
+            import hashlib
+            why = _UNAVAILABLE.get(hashlib.sha256(model.c_source.encode("utf-8")).hexdigest(), "")
+            raise SolverError(f"cannot compile the model: {why}",
+                              hint="install a C compiler (gcc) or use --backend python")
     return _run_python(model, inputs, t_out, p, x0, opts)
 
 

@@ -51,7 +51,7 @@ def test_check_with_set_and_bad_set(run):
     assert r.exit_code == 0, r.output
     assert _row(r.stdout, "valve.tau")[1] == "6"
     r = run("check", EHA, "--set", "valve.tauu=6 ms")
-    assert r.exit_code == 3 and "did you mean 'tau'" in r.stderr and "Traceback" not in r.output
+    assert r.exit_code == 2 and "did you mean 'tau'" in r.stderr and "Traceback" not in r.output
 
 
 def test_check_reports_warnings(run, tmp_path):
@@ -91,9 +91,9 @@ def test_components_type_table(run):
     assert "equations" in r.stdout and "seed 004" in r.stdout
 
 
-def test_components_unknown_type_exit_3_with_suggestion(run):
+def test_components_unknown_type_is_a_usage_error_with_suggestion(run):
     r = run("components", "volumee")
-    assert r.exit_code == 3 and "did you mean 'volume'" in r.stderr
+    assert r.exit_code == 2 and "did you mean 'volume'" in r.stderr
 
 
 def test_schema_print_and_write(run, tmp_path):

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from hydrocli.errors import NetlistError, UnitError
+from hydrocli.errors import NetlistError, UnitError, UsageError
 from hydrocli.netlist.loader import apply_overrides, load_netlist, load_netlist_text
 
 EHA = str(Path(__file__).parents[2] / "machines" / "eha_testbench.yaml")
@@ -220,10 +220,10 @@ def test_apply_overrides_with_units_and_did_you_mean():
     assert new.components["cylinder"].params["V_A0"].value == pytest.approx(2e-4)
     assert net.components["valve"].params["Kv"].value == pytest.approx(4.68e-7)   # original untouched
     assert new.text != net.text
-    with pytest.raises(NetlistError) as info:
+    with pytest.raises(UsageError) as info:         # a bad --set is a usage error (exit 2)
         apply_overrides(net, ["valv.Kv=1", "valve.Kvv=2", "cylinder.V_A0=-1 L", "nonsense"])
     text = info.value.render()
     assert len(info.value.problems) == 4
     assert "did you mean 'valve'" in text and "did you mean 'Kv'" in text and "must be > 0" in text
-    with pytest.raises(UnitError):
+    with pytest.raises(UsageError, match="dimension"):
         apply_overrides(net, ["cylinder.V_A0=3 bar"])

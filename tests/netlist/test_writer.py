@@ -138,5 +138,13 @@ def test_nested_template_and_included_components(tmp_path):
     new = W.set_parameters(net, {"p.l1.vol.V": 2.5e-3})
     assert "l1.vol.V: 0.0025" in new and "# the pair" in new
     assert load_netlist_text(new, str(main)).components["p.l1.vol"].params["V"].value == pytest.approx(2.5e-3)
+    # a component defined in the included file is copied into the main file with its new value
+    # (the included file is an input: never changed); the result loads the same machine
+    lib_before = (tmp_path / "lib.yaml").read_text()
+    new = W.set_parameters(net, {"t.p": 2e5})
+    again = load_netlist_text(new, str(main))
+    assert again.components["t"].params["p"].value == pytest.approx(2e5)
+    assert again.components["t"].ports == net.components["t"].ports
+    assert (tmp_path / "lib.yaml").read_text() == lib_before
     with pytest.raises(NetlistError, match="lib.yaml; edit that file"):
-        W.set_parameters(net, {"t.p": 2e5})
+        W.set_port(net, "t", "T", "m")

@@ -4,7 +4,7 @@ from __future__ import annotations
 from ...model import expr as E
 from ..base import Component, H, Param, Port, T, VariableSpec
 from ..registry import register
-from .fluid import AIR_PARAMS, oil_bulk_modulus
+from .fluid import AIR_PARAMS, cavitation_floor, oil_bulk_modulus
 from .. import roles as RL
 from ..roles import role
 
@@ -36,8 +36,11 @@ def _cylinder_equations(c, area_a, area_b):
                        "x_min/x_max) or check V_A0, the command and the load")
     c.guard(vb <= VOLUME_FLOOR * p.V_B0, "chamber B collapsed below 1 % of its volume at x = 0 (stroke overrun): add end stops (k_stop > 0, "
                        "x_min/x_max) or check V_B0, the command and the load")
-    c.capacitance("A", va / oil_bulk_modulus(c, pa))
-    c.capacitance("B", vb / oil_bulk_modulus(c, pb))
+    cap_a, cap_b = va / oil_bulk_modulus(c, pa), vb / oil_bulk_modulus(c, pb)
+    c.capacitance("A", cap_a)
+    c.capacitance("B", cap_b)
+    cavitation_floor(c, "A", cap_a)
+    cavitation_floor(c, "B", cap_b)
     q_il = c.let("q_il", (p.c_il if c.active("c_il") else 0.0) * (pa - pb))
     c_el = p.c_el if c.active("c_el") else 0.0
     c.through("A", area_a * v + q_il + c_el * (pa - p.p_drain))

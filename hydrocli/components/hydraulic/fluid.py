@@ -34,7 +34,24 @@ AIR_PARAMS = (
           bounds=(1.0, 1.4)),
     Param("p_dissolve", "Pa", 0.0, "pressure at which the free air has dissolved (Henry's law); 0 = never",
           min=0.0, bounds=(2e5, 5e7)),
+    Param("p_vap", "Pa", 0.0, "vapour / gas-release pressure (absolute): below it released gas and vapour fill "
+          "the chamber and hold its pressure there (cavitation floor; typically 2 kPa); 0 = no floor. "
+          "'fluid: {p_vap: 2 kPa}' sets it for every volume and chamber", min=0.0, max=1e6, fluid="p_vap",
+          source="Merritt, Hydraulic Control Systems §2.5 (cavitation); Jelali & Kroll §3.2"),
+    Param("tau_cav", "s", 1e-3, "time constant with which released gas/vapour fills a chamber below p_vap",
+          positive=True),
 )
+
+
+def cavitation_floor(c, port, capacitance) -> None:
+    """Below the vapour / gas-release pressure p_vap, gas and vapour come out of the oil and
+    fill the chamber: a flow into the node q_cav = C·max(p_vap − p, 0)/τ_cav, so that
+    C·dp/dt = Σq + q_cav relaxes p towards p_vap (a constant outflow q settles at
+    p_vap − q·τ_cav/C instead of falling to absolute zero and below). Above p_vap the term is
+    exactly zero: the equations are numerically unchanged there."""
+    if not c.active("p_vap"):
+        return
+    c.through(port, -capacitance * E.fmax(c.p.p_vap - c.across(port), 0.0) / c.p.tau_cav)
 
 
 def oil_bulk_modulus(c, p):

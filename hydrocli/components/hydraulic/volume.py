@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from ..base import Component, H, Param, Port
 from ..registry import register
-from .fluid import AIR_PARAMS, oil_bulk_modulus
+from .fluid import AIR_PARAMS, cavitation_floor, oil_bulk_modulus
 from .. import roles as RL
 from ..roles import role
 
@@ -25,4 +25,6 @@ class Volume(Component):
     )
 
     def equations(self, c):
-        c.capacitance("P", c.p.V / oil_bulk_modulus(c, c.across("P")))
+        cap = c.p.V / oil_bulk_modulus(c, c.across("P"))
+        c.capacitance("P", cap)
+        cavitation_floor(c, "P", cap)
