@@ -6,3 +6,7 @@ import pytest
 @pytest.fixture(autouse=True)
 def _model_cache(tmp_path_factory, monkeypatch):
     monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "hydro_cache"))
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "slow: takes more than ~10 s (deselect with -m 'not slow')")
