@@ -4,13 +4,18 @@ from __future__ import annotations
 from ..model import expr as E
 
 
-def rate_limited(u, xr, s_max, tau):
-    """d(xr)/dt of a smooth rate limiter: s_max·tanh((u − xr)/(τ·s_max)).
+def rate_limited(u, xr, s_max, tau, s_min=None):
+    """d(xr)/dt of a smooth rate limiter: s·tanh((u − xr)/(τ·s)), s = s_max when rising.
 
-    Tracks u with lag τ for small errors and moves at most at s_max (seed 004 eq. 1,
-    continuous form so the stiff solver sees a smooth right-hand side).
+    Tracks u with lag τ for small errors and moves at most at s_max rising and s_min
+    falling (seed 004 eq. 1: s_v,max and s_v,min = −s_min; continuous form so the stiff solver
+    sees a smooth right-hand side). ``s_min`` None: symmetric, the same expression as before.
+    Both branches have value 0, slope 1/τ and curvature 0 at u = xr, so the switch is C².
     """
-    return s_max * E.tanh((u - xr) / (tau * s_max))
+    e = u - xr
+    if s_min is None:
+        return s_max * E.tanh(e / (tau * s_max))
+    return E.where(e >= 0.0, s_max * E.tanh(e / (tau * s_max)), s_min * E.tanh(e / (tau * s_min)))
 
 
 def second_order(x, xd, u, tau, zeta):

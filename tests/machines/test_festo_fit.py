@@ -1,5 +1,5 @@
 """Proof on data (issue 5): the identified Festo TP511 model (reports/festo/, docs/festo.md)
-still reproduces a real recording. Fast: one 8 s recording at 500 Hz, one simulation."""
+still reproduces a real recording. Fast: one 8–20 s recording at 500 Hz, one simulation."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -17,12 +17,15 @@ ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT.parent / "shared" / "real" / "festo_tp511"
 IDENTIFIED = ROOT / "reports" / "festo" / "festo_tp511_identified.yaml"
 
-# measured with the identified machine (reports/festo/validation.md): x 0.064 %, pB 0.219 %
-# on festo_pB_5V, x 0.078 %, pA 0.234 % on festo_pA_5V; thresholds ~3x that.
-LIMITS = {"festo_pA_5V": {"x": 0.25, "pA": 0.7}, "festo_pB_5V": {"x": 0.25, "pB": 0.7}}
+# measured with the identified machine (reports/festo/validation.md): x 0.038 %, pB 0.240 %
+# on festo_pB_5V, x 0.092 %, pA 0.148 % on festo_pA_5V; thresholds ~3x that. At 1 V (end-of-
+# stroke cushioning, issue 15): x 0.065 %, pA 0.382 %; x 0.055 %, pB 0.506 %; the issue's
+# acceptance limit is ESR(p) <= 1 %.
+LIMITS = {"festo_pA_5V": {"x": 0.25, "pA": 0.7}, "festo_pB_5V": {"x": 0.25, "pB": 0.7},
+          "festo_pA_1V": {"x": 0.25, "pA": 1.0}, "festo_pB_1V": {"x": 0.25, "pB": 1.0}}
 
 
-@pytest.mark.parametrize("exp_name", sorted(LIMITS))
+@pytest.mark.parametrize("exp_name", sorted(LIMITS))       # ≈ 3–4 s each
 def test_identified_festo_model_reproduces_a_real_recording(exp_name, tmp_path, monkeypatch):
     if not DATA.is_dir():
         pytest.skip("shared Festo recordings not available")
@@ -44,3 +47,7 @@ def test_identified_festo_parameters_are_physical():
     assert 43e5 < p("supply.p") < 46e5                 # ≈ 44 bar gauge at the end stops
     assert 0.8 < p("valve.Kv_neg_ratio") < 1.0         # retraction ≈ 0.7× extension
     assert 40 < p("friction.kc_p") < 120 and 40 < p("friction.kc_m") < 120   # ≈ 70 N Coulomb
+    # cushioning: a few millimetres at the extended end (the sensor clips ~5.6 mm before the
+    # stop), a needle far smaller than the open outlet
+    assert 1e-3 < p("cushion_B.L") < 8e-3
+    assert p("cushion_B.Kv_needle") < 0.01 * p("cushion_B.Kv")

@@ -51,7 +51,21 @@ _GEOMETRY = (
           "for the 4 m hose)", source="seed 002 eq. 2a, §3b", min=0.0, bounds=(0.0, 1e14)),
     Param("I", "kg/m^4", 0.0, "total inertance (0: ρl/A)", source="seed 002 §3c (3.06e7)", min=0.0,
           bounds=(1e5, 1e10)),
+    Param("C_R_ref", "Pa*s^2/m^6", 0.0, "measured C_R of a reference hose, scaled to this hose by seed 002 eq. 7, "
+          "C_R ∝ μ^0.25 ρ^0.75 L/D^4.75 (same oil): C_R_ref·(l/l_ref)·(d_ref/d)^4.75; 0 = use C_R",
+          source="seed 002 eq. 7, §3b", min=0.0, bounds=(0.0, 1e14)),
+    Param("l_ref", "m", 4.0, "length of the reference hose of C_R_ref", source="seed 002 §3b", positive=True),
+    Param("d_ref", "m", 0.01905, "diameter of the reference hose of C_R_ref", source="seed 002 §3b", positive=True),
 )
+
+
+def turbulent_coefficient(c):
+    """C_R of the hose: the parameter, or seed 002 eq. 7's scaling of a measured reference hose
+    C_R(L, D) = a·μ^0.25·ρ^0.75·L/D^4.75 → C_R_ref·(l/l_ref)·(d_ref/d)^4.75 for the same oil."""
+    p = c.p
+    if not c.active("C_R_ref"):
+        return p.C_R
+    return p.C_R_ref * (p.l / p.l_ref) * (p.d_ref / p.d) ** 4.75
 
 
 @register
@@ -102,12 +116,13 @@ class Hose(Component):
         i_tot = c.let("I_total", p.I if c.active("I") else p.rho * p.l / area)
         c_tot = c.let("C_total", p.C if c.active("C") else area * p.l / p.beta)
         r_lam = laminar_resistance(p.rho, p.nu, p.l, p.d) if int(c.value("laminar")) else 0.0
+        c_r = turbulent_coefficient(c)
         self._lumping_check(c, n)
         caps, inert = ladder(arr, n)
         nodes = [c.across("A")] + [c.state(f"p{k}") for k in range(1, len(caps) - 1)] + [c.across("B")]
         flows = [c.state(f"q{k}") for k in range(len(inert))]
         for k, (q, frac) in enumerate(zip(flows, inert)):
-            c.der(f"q{k}", branch_rate(q, nodes[k] - nodes[k + 1], frac * i_tot, frac * r_lam, frac * p.C_R))
+            c.der(f"q{k}", branch_rate(q, nodes[k] - nodes[k + 1], frac * i_tot, frac * r_lam, frac * c_r))
         for k in range(1, len(caps) - 1):
             c.der(f"p{k}", (flows[k - 1] - flows[k]) / (caps[k] * c_tot))
         if caps[0]:
@@ -149,6 +164,6 @@ class FluidLine(Component):
         inertance = p.I if c.active("I") else p.rho * p.l / area
         r_lam = c.let("R_lam", laminar_resistance(p.rho, p.nu, p.l, p.d) if int(c.value("laminar")) else 0.0)
         q = c.state("q")
-        c.der("q", branch_rate(q, c.across("A") - c.across("B"), inertance, r_lam, p.C_R))
+        c.der("q", branch_rate(q, c.across("A") - c.across("B"), inertance, r_lam, turbulent_coefficient(c)))
         c.through("A", q)
         c.through("B", -q)

@@ -30,6 +30,8 @@ SPOOL_PARAMS = (
     Param("order", "1", 2, "spool dynamics order: 0, 1 or 2", structural=True, min=0, max=2),
     Param("s_max", "1/s", 20.0, "maximum spool speed (2000 %/s = 20 1/s)", source="seed 004 eq. 1",
           positive=True, bounds=(1.0, 1000.0)),
+    Param("s_min", "1/s", 0.0, "maximum falling spool speed (magnitude; seed 004 eq. 1 s_v,min = −s_min); "
+          "0 = s_max (symmetric)", source="seed 004 eq. 1", min=0.0, bounds=(1.0, 1000.0)),
     Param("tau_rl", "s", 1e-4, "tracking lag of the rate limiter below s_max", positive=True),
 )
 EDGE_PARAMS = (
@@ -71,7 +73,7 @@ def spool_position(c):
     (seed 004 eq. 2; seed 000 eq. 9 with ω_V = 1/τ, ζ_V = zeta); returns the spool position."""
     p = c.p
     xr = c.state("xr")
-    c.der("xr", rate_limited(c.signal("cmd"), xr, p.s_max, p.tau_rl))
+    c.der("xr", rate_limited(c.signal("cmd"), xr, p.s_max, p.tau_rl, p.s_min if c.active("s_min") else None))
     order = int(c.value("order"))
     if order == 2:
         xv, xd = c.state("xv"), c.state("xv_dot")

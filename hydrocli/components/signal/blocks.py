@@ -72,20 +72,22 @@ class Saturation(Component):
 
 @register
 class RateLimiter(Component):
-    """Smooth rate limiter (seed 004 eq. 1): y' = s_max·tanh((u − y)/(τ·s_max))."""
+    """Smooth rate limiter (seed 004 eq. 1): y' = s·tanh((u − y)/(τ·s)) with s = s_max rising
+    and s = s_min falling (s_min = 0: symmetric, s_max both ways)."""
 
     type = "rate_limiter"
     family = "signal"
     description = "Rate limiter with a short tracking lag"
     source = "seed 004 eq. 1"
     ports = (_IN, _OUT)
-    parameters = (Param("s_max", "1/s", 20.0, "maximum rate", positive=True),
+    parameters = (Param("s_max", "1/s", 20.0, "maximum rising rate", positive=True),
+                  Param("s_min", "1/s", 0.0, "maximum falling rate (magnitude); 0 = s_max", min=0.0),
                   Param("tau", "s", 1e-4, "tracking lag below the rate limit", positive=True))
     states = (StateSpec("y", "1", "output", nominal=0.01),)
 
     def equations(self, c):
         y = c.state("y")
-        c.der("y", rate_limited(c.signal("in"), y, c.p.s_max, c.p.tau))
+        c.der("y", rate_limited(c.signal("in"), y, c.p.s_max, c.p.tau, c.p.s_min if c.active("s_min") else None))
         c.drive("out", y)
 
 
