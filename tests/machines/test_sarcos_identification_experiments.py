@@ -3,6 +3,7 @@
   the straight line through the (P_p1 − P_atm, Q) points gives back R_v (eq. 20);
 * displacement from the torque/load-pressure plot (Fig. 7b, unbraced sine): the slope of the
   inclined segments is D_v (eq. 12), their offsets the vane's Coulomb friction."""
+from hydrocli.experiments.initial import initial_state
 from pathlib import Path
 
 import numpy as np
@@ -21,7 +22,7 @@ def test_leakage_experiment_recovers_r_v():
     r_v = model.p0[model.param_index("vane.R_v")]
     dp, q = [], []
     for exp in load_all(ROOT / "experiments" / "sarcos" / "leakage.yaml", model):
-        tr = simulate(model, exp.inputs, exp.t_out, x0=exp.x0(model), opts=SolverOptions(rtol=1e-8))
+        tr = simulate(model, exp.inputs, exp.t_out, x0=initial_state(model, exp), opts=SolverOptions(rtol=1e-8))
         dp.append(tr.Y[-1, model.output_names.index("P_p1")] - 1e5)
         q.append(tr.Y[-1, model.output_names.index("Q_leak")])
         assert abs(tr.X[-1, model.state_names.index("vane_node.w")]) < 1e-6      # braced: at rest
@@ -35,7 +36,7 @@ def test_torque_versus_load_pressure_gives_the_displacement():
     model = build_model(load_netlist(ROOT / "machines" / "sarcos_elbow.yaml"))
     d_v, tau_c = model.p0[model.param_index("vane.D_v")], model.p0[model.param_index("vane_friction.tau_c")]
     exp, = load_all(ROOT / "experiments" / "sarcos" / "dynamic.yaml", model)
-    tr = simulate(model, exp.inputs, exp.t_out, x0=exp.x0(model), opts=SolverOptions(rtol=1e-7))
+    tr = simulate(model, exp.inputs, exp.t_out, x0=initial_state(model, exp), opts=SolverOptions(rtol=1e-7))
     tau = tr.Y[:, model.output_names.index("tau_shaft")]
     p_load = tr.Y[:, model.output_names.index("P_load")]
     u = np.column_stack([np.interp(exp.t_out, exp.inputs.t, exp.inputs.U[:, k])
