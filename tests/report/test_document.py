@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from hydrocli.errors import DataError
+
 from hydrocli.report import style
 from hydrocli.report.document import write_pdf
 
@@ -46,11 +46,15 @@ def test_a_failing_page_leaves_the_old_file_and_no_temporary(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.pdf"]
 
 
-def test_unwritable_target_is_a_located_data_error(tmp_path):
+def test_unwritable_target_is_a_clear_error(tmp_path):
+    """A folder that is a file: the output guard refuses it (a usage error, exit 2), and
+    nothing is written."""
+    from hydrocli.errors import HydroError
     blocker = tmp_path / "file"
     blocker.write_text("x")
-    with pytest.raises(DataError, match="cannot write the report"):
+    with pytest.raises(HydroError, match="is not a folder") as exc:
         write_pdf(blocker / "sub" / "r.pdf", _pages(1))
+    assert exc.value.exit_code == 2 and blocker.read_text() == "x"
 
 
 def test_importing_the_report_stack_keeps_the_callers_backend():
