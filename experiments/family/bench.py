@@ -101,13 +101,32 @@ class Excitation:
 
 
 class _Live:
+    """Inputs set by the controller before each rhs call; keeps the command's history so a
+    delayed command u(t - T_d) is available in closed loop too."""
     u = Ps = F = 0.0
+
+    def __init__(self):
+        self.th, self.uh = [], []
+
+    def push(self, t, u):
+        while self.th and self.th[-1] >= t:      # the integrator stepped back: forget
+            self.th.pop()
+            self.uh.pop()
+        self.th.append(t)
+        self.uh.append(u)
 
     def at(self, t):
         return self.u, self.Ps, self.F
 
     def u_and_slope(self, t):
-        return self.u, 0.0
+        if not self.th or t >= self.th[-1]:
+            return self.u, 0.0
+        k = bisect.bisect_right(self.th, t)
+        if k == 0:
+            return self.uh[0], 0.0
+        t0, t1 = self.th[k - 1], self.th[k]
+        a = (t - t0) / (t1 - t0) if t1 > t0 else 1.0
+        return self.uh[k - 1] + a * (self.uh[k] - self.uh[k - 1]), 0.0
 
 
 def closed_loop(model, exc: Excitation, y0, Kq: float):
@@ -133,6 +152,7 @@ def closed_loop(model, exc: Excitation, y0, Kq: float):
     def rhs(t, y):
         u, r, Pso, F = ctrl(t, y)
         live.u, live.Ps, live.F = u, Pso - y[n + 1], F
+        live.push(t, u)
         dy = model.rhs(t, y[:n])
         _, _, qs = model.valve_flows(y[1], live.Ps, *model_ports(model, y))
         zdot = r - y[5]

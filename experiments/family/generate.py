@@ -181,7 +181,7 @@ class CaseRunner:
                 slope = math.log(max(e2, 1e-9) / max(e1, 1e-9)) / math.log(s2 / s1) if s2 != s1 else 2.0
                 slope = min(max(slope, 0.5), 4.0)
             s = s * (target / max(e, 1e-9)) ** (1.0 / slope)
-            s = min(max(s, 1e-3), 1e3)
+            s = min(max(s, 0.05), 20.0)
             if abs(math.log(max(e, 1e-9) / target)) < 0.15:
                 s = probes[-1][0]
                 break
