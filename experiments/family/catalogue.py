@@ -124,11 +124,11 @@ FORMS = {
                           {"k_b": -1, "k3": -1}),
     },
     "end_stop": {
-        "hunt_crossley": (C.EndStop, _per({"x_stop": 0.40, "k": 1e11, "lam": 15.0},
-                                          {"x_stop": 0.70, "k": 1e7, "lam": 15.0},
+        "hunt_crossley": (C.EndStop, _per({"x_stop": 0.34, "k": 1e11, "lam": 15.0},
+                                          {"x_stop": 0.50, "k": 1e7, "lam": 15.0},
                                           {"x_stop": 0.128, "k": 6e10, "lam": 15.0}), {}),
-        "bumper_linear": (F.LinearBumper, _per({"x_stop": 0.40, "k": 5e6, "c": 2e4},
-                                               {"x_stop": 0.70, "k": 3e3, "c": 10.0},
+        "bumper_linear": (F.LinearBumper, _per({"x_stop": 0.34, "k": 5e6, "c": 2e4},
+                                               {"x_stop": 0.50, "k": 3e3, "c": 10.0},
                                                {"x_stop": 0.128, "k": 2e6, "c": 5e3}), {}),
     },
     "supply_pressure_drop": {

@@ -165,26 +165,46 @@ class CaseRunner:
         return e
 
     def calibrate(self, target):
-        """Size factor s for an effect ESR near target (two probes, log-log secant)."""
+        """Size factor s for an effect ESR near target: the training inputs of the closed
+        loop at s = 1 are replayed with the effect at trial sizes against the same effect-off
+        replay (up to three probes; log-log secant between the bracketing pair, else the last two); returns s and the probes."""
         scale = cat.FORMS[self.effect][self.form][2]
         if not scale:
             return 1.0, []
-        probes = []
+        res = self.run("train", 1.0)
+        probes = [(1.0, self.esr_of(res)["size"])]
+        exc = res["exc"]
+        inputs = Inputs(exc.t_grid[0], 1.0 / FS, res["u"], res["Ps"], res["F"])
+        i0 = int(round(PREROLL * FS))
         s = 1.0
-        for _ in range(2):
-            e = self.esr_of(self.run("train", s, replay_on=False))["size"]
-            probes.append((s, e))
-            if len(probes) == 1:
-                slope = 2.0
-            else:
-                (s1, e1), (s2, e2) = probes
-                slope = math.log(max(e2, 1e-9) / max(e1, 1e-9)) / math.log(s2 / s1) if s2 != s1 else 2.0
-                slope = min(max(slope, 0.5), 4.0)
-            s = s * (target / max(e, 1e-9)) ** (1.0 / slope)
-            s = min(max(s, 0.05), 20.0)
-            if abs(math.log(max(e, 1e-9) / target)) < 0.15:
-                s = probes[-1][0]
+        for k in range(3):
+            sc, ec = min(probes, key=lambda q: abs(math.log(max(q[1], 1e-9) / target)))
+            if abs(math.log(max(ec, 1e-9) / target)) < 0.25:
+                s = sc
                 break
+            s1, e1 = sc, ec
+            lo = [q for q in probes if q[1] < target]
+            hi = [q for q in probes if q[1] >= target]
+            if lo and hi:                      # bracketed: secant between the bracketing pair
+                (sa, ea), (sb, eb) = max(lo, key=lambda q: q[1]), min(hi, key=lambda q: q[1])
+            elif len(probes) > 1:
+                (sa, ea), (sb, eb) = probes[-2:]
+            else:
+                sa = sb = 1.0
+                ea = eb = 1.0
+            if sa != sb:
+                slope = math.log(max(eb, 1e-9) / max(ea, 1e-9)) / math.log(sb / sa)
+                slope = min(max(slope, 0.3), 4.0)
+                s1, e1 = sb, eb
+            else:
+                slope = 2.0
+            s = min(max(s1 * (target / max(e1, 1e-9)) ** (1.0 / slope), 1e-3), 50.0)
+            if k == 2:
+                break
+            m_on = _truth(self.mt, self.p, self.effect_obj(s), inputs)
+            sol = m_on.simulate(exc.t_grid, self.y0(m_on))
+            res = {**res, "on": {kk: v[i0:] for kk, v in m_on.measured(sol.y).items()}}
+            probes.append((s, self.esr_of(res)["size"]))
         return s, probes
 
 
