@@ -65,6 +65,19 @@ def all_cases(machines, seeds, split="all", effects=None):
     return out
 
 
+def interleave(cases):
+    """Run order: null cases first, then round-robin over machines (so that an interrupted run
+    has covered every machine type); the set of cases is unchanged."""
+    from itertools import zip_longest
+    nulls = [c for c in cases if c[1] == "none"]
+    by_m = {}
+    for c in cases:
+        if c[1] != "none":
+            by_m.setdefault(c[0], []).append(c)
+    rr = [c for group in zip_longest(*by_m.values()) for c in group if c is not None]
+    return nulls + rr
+
+
 def _seed_int(m, e, f, s) -> int:
     return int.from_bytes(case_hash(m, e, f, s)[5:13], "big")
 
@@ -369,7 +382,7 @@ def main(argv=None) -> int:
         return 0
     if a.out is None:
         ap.error("--out DIR is required")
-    jobs = [(*c, str(a.out), a.duration) for c in cases]
+    jobs = [(*c, str(a.out), a.duration) for c in interleave(cases)]
     t0 = time.time()
     if a.jobs > 1:
         from multiprocessing import Pool
