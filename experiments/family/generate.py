@@ -29,12 +29,12 @@ import numpy as np
 if __package__ in (None, ""):
     sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from experiments.concealed.truth.eha import P_TAU, EHATruth, Inputs
+from experiments.concealed.truth.eha import P_TAU, Inputs
 from experiments.family import catalogue as cat
 from experiments.family.bench import Excitation, closed_loop
 from experiments.family.machines import MACHINES
 from experiments.family.split import case_hash, case_id, split_of, unit_draw
-from experiments.family.truth.actuator import ActuatorTruth
+from experiments.family.truth.actuator import ActuatorTruth, FamilyEHATruth
 
 ROOT = Path(__file__).resolve().parents[2]
 FS = 1000.0
@@ -91,7 +91,7 @@ def _quant(a, q):
 
 
 def _truth(mt, p, effect, inputs=None):
-    return (ActuatorTruth if mt.truth == "actuator" else EHATruth)(p, effect, inputs)
+    return (ActuatorTruth if mt.truth == "actuator" else FamilyEHATruth)(p, effect, inputs)
 
 
 class CaseRunner:

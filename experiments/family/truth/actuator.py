@@ -84,6 +84,7 @@ class ActuatorTruth(EHATruth):
         return (y[9] if self.cbv else y[3]), y[4]
 
     def rhs(self, t, y):
+        self._y = y                     # for effects whose hooks need the state (forms.py)
         p, eff, inp = self.p, self.effect, self.inputs
         _, Ps, Fx = inp.at(t)
         if eff is not None and eff.delay > 0.0:
@@ -101,8 +102,6 @@ class ActuatorTruth(EHATruth):
         dy[1] = xvd
         dy[2] = (xrl - 2.0 * tv * xvd - xv) / (tv * tv)
         xv_eff = eff.spool_opening(self, xv) if eff is not None else xv
-        if eff is not None and hasattr(eff, "spool_opening_y"):
-            xv_eff = eff.spool_opening_y(self, y, xv_eff)
         Ps_valve = eff.supply_at_valve(self, y, Ps) if eff is not None else Ps
         if eff is not None and eff.custom_valve:
             qa, qb, qs = eff.valve_flows(self, xv_eff, Ps_valve, y)
@@ -157,3 +156,37 @@ class ActuatorTruth(EHATruth):
         if self.cbv:
             a[9] = 10.0
         return a
+
+
+class _CommandPath:
+    """Inputs seen through an effect's command hook (forms.LagCascadeDelay) on the EHA truth,
+    whose right-hand side has no such hook; ``raw`` is the undelayed recording."""
+
+    def __init__(self, model, raw):
+        self.model, self.raw = model, raw
+
+    def at(self, t):
+        return self.raw.at(t)
+
+    def u_and_slope(self, t):
+        u, du = self.raw.u_and_slope(t)
+        return self.model.effect.command(self.model, t, self.model._y, u, du)
+
+
+class FamilyEHATruth(EHATruth):
+    """The concealed EHA truth, unchanged, plus the two hooks the family's forms use: the
+    current state for spool hooks (``_y``) and the command path (``command``)."""
+
+    @property
+    def inputs(self):
+        return self._inputs
+
+    @inputs.setter
+    def inputs(self, value):
+        eff = getattr(self, "effect", None)
+        self._inputs = (_CommandPath(self, value) if value is not None and eff is not None
+                        and hasattr(eff, "command") else value)
+
+    def rhs(self, t, y):
+        self._y = y
+        return super().rhs(t, y)

@@ -189,7 +189,15 @@ class SharpAsymOverlap(Effect):
         return up - dn
 
 
-class PlayHysteresis(Effect):
+class _StateSpool(Effect):
+    """An effect on the metering opening that needs the state: ``spool_opening`` reads the
+    state the truth stored for this rhs call (``model._y``)."""
+
+    def spool_opening(self, model, xv):
+        return self.spool_opening_y(model, model._y, xv)
+
+
+class PlayHysteresis(_StateSpool):
     name = "valve_hysteresis"
     form = ("mechanical PLAY (backlash) of half-width h between the spool and the metering "
             "land: x_e follows x_v only when |x_v - x_e| reaches h (smoothed)")
@@ -214,7 +222,7 @@ class PlayHysteresis(Effect):
         return 1e-6
 
 
-class DahlHysteresis(Effect):
+class DahlHysteresis(_StateSpool):
     name = "valve_hysteresis"
     form = C.ValveHysteresis.form
 
@@ -280,7 +288,7 @@ class LagCascadeDelay(Effect):
 
     def more_derivatives(self, model, t, y, dy, qs):
         i, tau = model.n_base, self.params["T_d"] / self.N
-        u = model.inputs.u_and_slope(t)[0]
+        u = getattr(model.inputs, "raw", model.inputs).u_and_slope(t)[0]
         for k in range(self.N):
             src = u if k == 0 else y[i + k - 1]
             dy[i + k] = (src - y[i + k]) / tau
