@@ -384,14 +384,26 @@ def main(argv=None) -> int:
         ap.error("--out DIR is required")
     jobs = [(*c, str(a.out), a.duration) for c in interleave(cases)]
     t0 = time.time()
+    blind = a.split == "heldout"          # held-out: counts only, nothing case by case
+    done = errors = 0
+
+    def report(r):
+        nonlocal done, errors
+        done += 1
+        errors += "error" in r
+        if blind:
+            print(f"{done}/{len(jobs)} held-out cases written ({errors} failed)", flush=True)
+        else:
+            _report(r)
+
     if a.jobs > 1:
         from multiprocessing import Pool
         with Pool(a.jobs) as pool:
             for r in pool.imap_unordered(_job, jobs):
-                _report(r)
+                report(r)
     else:
         for j in jobs:
-            _report(_job(j))
+            report(_job(j))
     print(f"{len(jobs)} cases in {time.time() - t0:.0f} s")
     return 0
 
