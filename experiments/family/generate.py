@@ -65,15 +65,16 @@ def all_cases(machines, seeds, split="all", effects=None):
     return out
 
 
-def interleave(cases):
-    """Run order: null cases first, then round-robin over machines (so that an interrupted run
+def interleave(cases, seeds=None):
+    """Run order: null cases first, then seed by seed in the order given (``--seeds 1 0 2``
+    makes the mid-size cases first), round-robin over machines (so that an interrupted run
     has covered every machine type); the set of cases is unchanged."""
     from itertools import zip_longest
+    rank = {s: i for i, s in enumerate(seeds or [])}
     nulls = [c for c in cases if c[1] == "none"]
     by_m = {}
-    for c in cases:
-        if c[1] != "none":
-            by_m.setdefault(c[0], []).append(c)
+    for c in sorted((c for c in cases if c[1] != "none"), key=lambda c: rank.get(c[3], 0)):
+        by_m.setdefault(c[0], []).append(c)
     rr = [c for group in zip_longest(*by_m.values()) for c in group if c is not None]
     return nulls + rr
 
@@ -382,7 +383,7 @@ def main(argv=None) -> int:
         return 0
     if a.out is None:
         ap.error("--out DIR is required")
-    jobs = [(*c, str(a.out), a.duration) for c in interleave(cases)]
+    jobs = [(*c, str(a.out), a.duration) for c in interleave(cases, a.seeds)]
     t0 = time.time()
     blind = a.split == "heldout"          # held-out: counts only, nothing case by case
     done = errors = 0
