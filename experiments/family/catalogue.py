@@ -123,6 +123,12 @@ FORMS = {
                                                  {"m_b": 30.0, "k_b": 5e6, "k3": 5e12, "c_b": 2000.0}),
                           {"k_b": -1, "k3": -1}),
     },
+    "payload_swing": {
+        "rope_pendulum": (F.RopePendulum, {"rotary": {"m_p": 3.0, "r": 0.6, "L": 0.5, "c_r": 0.05}},
+                          {"m_p": 1}),
+        "tip_spring_mass": (F.TangentialSpringPayload,
+                            {"rotary": {"m_p": 3.0, "r": 0.6, "k": 170.0, "c": 1.5}}, {"m_p": 1}),
+    },
     "end_stop": {
         "hunt_crossley": (C.EndStop, _per({"x_stop": 0.34, "k": 1e11, "lam": 15.0},
                                           {"x_stop": 0.50, "k": 1e7, "lam": 15.0},

@@ -129,3 +129,23 @@ def test_generator_is_deterministic(tmp_path):
     assert fa == fb and len(fa) == 5
     for f in fa:
         assert (a / f).read_bytes() == (b / f).read_bytes(), f
+
+
+def test_rope_pendulum_payload_conserves_energy():
+    """Arm + rope payload, no hydraulics, friction or damping: E = T + V is constant."""
+    from experiments.family.truth.forms import RopePendulum
+    p = dict(MACHINES["rotary"].nominal)
+    p.update(kv_p=0.0, kv_m=0.0, kc_p=0.0, kc_m=0.0, A_A=1e-12, A_B=1e-12)
+    eff = RopePendulum(m_p=3.0, r=0.6, L=0.5, c_r=0.0)
+    m = ActuatorTruth(p, eff, _closed_valve(3.0))
+    y0 = m.initial_state(0.3, 5e6, 5e6)
+    y0[m.n_base] = -0.2                                   # rope angle
+    sol = m.simulate(np.linspace(0, 3.0, 3001), y0, rtol=1e-10, max_step=1e-3)
+    th, thd, ph, phd = sol.y[5], sol.y[6], sol.y[m.n_base], sol.y[m.n_base + 1]
+    mp, r, L, g, J, W = 3.0, 0.6, 0.5, 9.81, p["m"], p["W"]
+    T = 0.5 * J * thd ** 2 + 0.5 * mp * (r * r * thd ** 2 + L * L * phd ** 2
+                                         + 2 * r * L * thd * phd * np.cos(th - ph))
+    V = -W * np.cos(th) - mp * g * (r * np.cos(th) + L * np.cos(ph))
+    E = T + V
+    assert np.ptp(th) > 0.3 and np.ptp(ph) > 0.2          # it swings
+    assert np.ptp(E) < 1e-6 * abs(E[0])

@@ -406,3 +406,56 @@ class PressureSensorLag(Effect):
 
     def atol(self, name):
         return 10.0
+
+
+class RopePendulum(Effect):
+    name = "payload_swing"
+    form = ("payload m_p on a rope of length L hanging from the arm tip (radius r): the full "
+            "nonlinear two-link Lagrangian (arm angle theta, rope angle phi from vertical), rope "
+            "damping c_r; theta and its rate are measured on the arm")
+
+    def setup(self, model):
+        model.layout.add("phi", "phid")
+
+    def init_state(self, model, y, x0, P0):
+        y[model.n_base] = 0.0
+
+    def piston_accel(self, model, y, Fp, F, Ff, dy):
+        p, i = self.params, model.n_base
+        mp, r, L, g = p["m_p"], p["r"], p["L"], 9.81
+        th, thd, ph, phd = y[5], y[6], y[i], y[i + 1]
+        c, s = math.cos(th - ph), math.sin(th - ph)
+        # [J + mp r^2, mp r L c; mp r L c, mp L^2] [thdd, phdd] = rhs
+        a11, a12, a22 = model.p["m"] + mp * r * r, mp * r * L * c, mp * L * L
+        b1 = Fp + F - Ff - mp * r * L * s * phd * phd - mp * g * r * math.sin(th)
+        b2 = mp * r * L * s * thd * thd - mp * g * L * math.sin(ph) - p["c_r"] * phd
+        det = a11 * a22 - a12 * a12
+        thdd = (b1 * a22 - a12 * b2) / det
+        dy[i] = phd
+        dy[i + 1] = (a11 * b2 - a12 * b1) / det
+        return thdd
+
+    def atol(self, name):
+        return 1e-7
+
+
+class TangentialSpringPayload(Effect):
+    name = "payload_swing"
+    form = ("flexible payload: a mass m_p at the arm tip (radius r) on a LINEAR tangential "
+            "spring-damper k, c (a boom-tip mass, not a rope); its weight m_p g r sin(theta) on "
+            "the arm")
+
+    def setup(self, model):
+        model.layout.add("q", "qd")
+
+    def piston_accel(self, model, y, Fp, F, Ff, dy):
+        p, i = self.params, model.n_base
+        mp, r = p["m_p"], p["r"]
+        Fs = p["k"] * y[i] + p["c"] * y[i + 1]          # spring force on the payload (-)
+        thdd = (Fp + F - Ff - mp * 9.81 * r * math.sin(y[5]) + r * Fs) / model.p["m"]
+        dy[i] = y[i + 1]
+        dy[i + 1] = -Fs / mp - r * thdd
+        return thdd
+
+    def atol(self, name):
+        return 1e-8
