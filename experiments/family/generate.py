@@ -40,7 +40,7 @@ ROOT = Path(__file__).resolve().parents[2]
 FS = 1000.0
 PREROLL = 2.0
 ESR_TARGET = (0.5, 10.0)
-NULL_FORMS = ("base_a", "base_b")
+NULL_FORMS = ("base_a", "base_b", "base_c", "base_d")
 SENSORS = {
     "linear": {"P_sigma": 1.5e4, "P_quant": 1.0e3, "P_tau": P_TAU, "x_sigma": 2e-6, "x_quant": 5e-6,
                "v_sigma": 1e-3, "v_quant": 1e-4},
