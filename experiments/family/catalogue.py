@@ -1,0 +1,198 @@
+"""Which effects each machine carries, in which truth forms, at which nominal size.
+
+``FORMS[effect][form] = (class, {machine: params}, scale)``: ``scale`` maps a parameter to
+how it follows the size factor s chosen by the generator's calibration: an exponent
+(value * s**e; e = -1 for a stiffness: softer is a larger effect) or ``"d"`` for a gain
+ratio (1 + (value - 1) s). An empty ``scale`` means the size is not calibrated (end stops:
+the size is set by how often the setpoints reach the stop). ``LIMITS`` clips parameters that
+have a physical ceiling. Machines without an entry for a form do not carry it.
+"""
+from __future__ import annotations
+
+from experiments.concealed.truth import effects as C
+
+from .truth import forms as F
+
+_ALL = ("lift", "lift_cbv", "rotary", "eha")
+_NO_CBV = ("lift", "rotary", "eha")
+
+
+def _per(lift, rotary, eha, machines=_ALL):
+    table = {"lift": lift, "lift_cbv": lift, "rotary": rotary, "eha": eha}
+    return {m: table[m] for m in machines}
+
+
+FORMS = {
+    "internal_leakage": {
+        "laminar": (F.LaminarInternalLeakage, _per({"c": 3e-12}, {"c": 5e-13}, {"c": 2e-11}), {"c": 1}),
+        "orifice": (C.InternalLeakage, _per({"K_t": 7.5e-9, "dp_t": 2e5}, {"K_t": 1e-9, "dp_t": 2e5},
+                                            {"K_t": 2.5e-8, "dp_t": 2e5}), {"K_t": 1}),
+    },
+    "external_leakage": {
+        "rod_seal_laminar": (F.RodSealLeakage, _per({"c": 3e-12}, {"c": 5e-13}, {"c": 2e-11}), {"c": 1}),
+        "orifice_both": (C.ExternalLeakage, _per({"K_e1": 7e-9, "K_e2": 3e-9, "dp_t": 1e5},
+                                                 {"K_e1": 9e-10, "K_e2": 4e-10, "dp_t": 1e5},
+                                                 {"K_e1": 1.1e-8, "K_e2": 4e-9, "dp_t": 1e5}),
+                         {"K_e1": 1, "K_e2": 1}),
+    },
+    "viscous_friction": {
+        "linear": (F.LinearViscous, _per({"b": 6000.0}, {"b": 0.5}, {"b": 12000.0}), {"b": 1}),
+        "shear_thinning": (F.ThinningViscous, _per({"b": 6000.0, "v1": 0.02}, {"b": 0.5, "v1": 0.3},
+                                                   {"b": 12000.0, "v1": 0.02}), {"b": 1}),
+    },
+    "coulomb_friction": {
+        "tanh_wide": (F.TanhCoulomb, _per({"Fc": 550.0, "v_c": 0.004}, {"Fc": 2.0, "v_c": 0.04},
+                                          {"Fc": 1100.0, "v_c": 0.004}), {"Fc": 1}),
+        "atan_asym": (F.AtanCoulomb, _per({"Fc_p": 500.0, "Fc_m": 600.0, "v_c": 0.002},
+                                          {"Fc_p": 2.0, "Fc_m": 2.4, "v_c": 0.02},
+                                          {"Fc_p": 380.0, "Fc_m": 480.0, "v_c": 0.002}),
+                      {"Fc_p": 1, "Fc_m": 1}),
+    },
+    "stribeck_friction": {
+        "gaussian": (C.StribeckFriction, _per({"Fs_p": 800.0, "Fs_m": 600.0, "vs_p": 0.006, "vs_m": 0.004},
+                                              {"Fs_p": 3.0, "Fs_m": 2.5, "vs_p": 0.05, "vs_m": 0.04},
+                                              {"Fs_p": 600.0, "Fs_m": 450.0, "vs_p": 0.006, "vs_m": 0.004}),
+                     {"Fs_p": 1, "Fs_m": 1}),
+        "lugre": (F.LuGreStribeck, _per({"Fs": 800.0, "vs": 0.005, "F0": 50.0, "s0": 1e8, "s1": 3000.0},
+                                        {"Fs": 3.0, "vs": 0.05, "F0": 0.2, "s0": 3e4, "s1": 5.0},
+                                        {"Fs": 600.0, "vs": 0.005, "F0": 40.0, "s0": 1e8, "s1": 2000.0}),
+                  {"Fs": 1, "F0": 1}),
+    },
+    "pressure_dependent_friction": {
+        "dp_seal": (F.DiffPressureFriction, _per({"mu": 0.03, "eps2": 0.002}, {"mu": 0.03, "eps2": 0.02},
+                                                 {"mu": 0.22, "eps2": 0.001}), {"mu": 1}),
+        "rod_seal": (F.RodSealPressureFriction, _per({"mu": 0.05, "eps2": 0.002}, {"mu": 0.05, "eps2": 0.02},
+                                                     {"mu": 0.1, "eps2": 0.001}), {"mu": 1}),
+    },
+    "entrained_air": {
+        "isothermal_dissolving": (C.EntrainedAir, _per({"alpha0": 0.5, "P_sat": 1.5e7},
+                                                       {"alpha0": 0.5, "P_sat": 1.5e7},
+                                                       {"alpha0": 0.8, "P_sat": 1.5e7}), {"alpha0": 1}),
+        "polytropic": (F.PolytropicAir, _per({"alpha0": 0.1}, {"alpha0": 0.1}, {"alpha0": 0.15}),
+                       {"alpha0": 1}),
+    },
+    "line_dynamics": {
+        "single_T": (C.LineDynamics, _per({"V_h": 4.5e-4, "I": 3.1e7, "R_l": 3.1e8, "R_t": 1e10},
+                                          {"V_h": 8.5e-5, "I": 9.2e7, "R_l": 3.8e9, "R_t": 1e12},
+                                          {"V_h": 1.7e-4, "I": 1.85e8, "R_l": 7.6e9, "R_t": 1.2e12},
+                                          _NO_CBV),
+                     {"V_h": 1, "I": 1, "R_l": 1, "R_t": 1}),
+        "distributed_3": (F.DistributedLines, _per({"V_h": 4.5e-4, "I": 3.1e7, "R_l": 3.1e8},
+                                                   {"V_h": 8.5e-5, "I": 9.2e7, "R_l": 3.8e9},
+                                                   {"V_h": 1.7e-4, "I": 1.85e8, "R_l": 7.6e9}, _NO_CBV),
+                          {"V_h": 1, "I": 1, "R_l": 1}),
+    },
+    "valve_overlap": {
+        "rounded": (C.ValveOverlap, _per({"overlap": 1.5, "edge_radius": 0.6}, {"overlap": 1.5, "edge_radius": 0.6},
+                                         {"overlap": 1.5, "edge_radius": 0.6}), {"overlap": 1, "edge_radius": 1}),
+        "sharp_unequal": (F.SharpAsymOverlap, _per({"o_p": 1.5, "o_m": 0.8}, {"o_p": 1.5, "o_m": 0.8},
+                                                   {"o_p": 1.5, "o_m": 0.8}), {"o_p": 1, "o_m": 1}),
+    },
+    "valve_hysteresis": {
+        "dahl": (F.DahlHysteresis, _per({"h": 0.8, "sigma": 6.0, "eps": 0.5}, {"h": 0.8, "sigma": 6.0, "eps": 0.5},
+                                        {"h": 0.8, "sigma": 6.0, "eps": 0.5}), {"h": 1}),
+        "play": (F.PlayHysteresis, _per({"h": 0.5}, {"h": 0.5}, {"h": 0.5}), {"h": 1}),
+    },
+    "valve_asymmetry": {
+        "four_edges": (F.EdgeAsymmetry, _per(*[{"g_PA": 1.25, "g_BT": 1.15, "g_PB": 0.8, "g_AT": 0.85}] * 3),
+                       {"g_PA": "d", "g_BT": "d", "g_PB": "d", "g_AT": "d"}),
+        "solenoid_gain": (F.SolenoidAsymmetry, _per(*[{"g_p": 1.15, "g_m": 0.88}] * 3),
+                          {"g_p": "d", "g_m": "d"}),
+    },
+    "input_delay": {
+        "pure": (C.InputDelay, _per(*[{"T_d": 0.01}] * 3), {"T_d": 1}),
+        "lag_cascade": (F.LagCascadeDelay, _per(*[{"T_d": 0.015}] * 3), {"T_d": 1}),
+    },
+    "load_compliance": {
+        "cubic_split_mass": (C.LoadCompliance, _per({"frac_p": 0.35, "k": 2.4e6, "k3": 5e11, "c": 2000.0},
+                                                    {"frac_p": 0.35, "k": 1900.0, "k3": 3.8e6, "c": 1.0},
+                                                    {"frac_p": 0.35, "k": 8e5, "k3": 1.6e11, "c": 700.0}),
+                             {"k": -1, "k3": -1}),
+        "linear_dry_joint": (F.FrictionJointCompliance,
+                             _per({"frac_p": 0.1, "k": 2.4e6, "c": 500.0, "Fd": 300.0, "vd": 1e-3},
+                                  {"frac_p": 0.15, "k": 1900.0, "c": 0.3, "Fd": 1.0, "vd": 0.01},
+                                  {"frac_p": 0.3, "k": 8e5, "c": 200.0, "Fd": 150.0, "vd": 1e-3}),
+                             {"k": -1}),
+    },
+    "structural_flexibility": {
+        "mount_linear": (F.CompliantMount, _per({"m_b": 300.0, "k_b": 1e7, "c_b": 1.1e4},
+                                                {"m_b": 0.2, "k_b": 3e3, "c_b": 2.0},
+                                                {"m_b": 30.0, "k_b": 5e6, "c_b": 4000.0}), {"k_b": -1}),
+        "bushing_cubic": (F.CompliantMount, _per({"m_b": 300.0, "k_b": 1e7, "k3": 1e13, "c_b": 5000.0},
+                                                 {"m_b": 0.2, "k_b": 3e3, "k3": 3e7, "c_b": 1.0},
+                                                 {"m_b": 30.0, "k_b": 5e6, "k3": 5e12, "c_b": 2000.0}),
+                          {"k_b": -1, "k3": -1}),
+    },
+    "payload_swing": {
+        "rope_pendulum": (F.RopePendulum, {"rotary": {"m_p": 3.0, "r": 0.6, "L": 0.5, "c_r": 0.05}},
+                          {"m_p": 1}),
+        "tip_spring_mass": (F.TangentialSpringPayload,
+                            {"rotary": {"m_p": 3.0, "r": 0.6, "k": 170.0, "c": 1.5}}, {"m_p": 1}),
+    },
+    "end_stop": {
+        "hunt_crossley": (C.EndStop, _per({"x_stop": 0.34, "k": 1e11, "lam": 15.0},
+                                          {"x_stop": 0.50, "k": 1e7, "lam": 15.0},
+                                          {"x_stop": 0.128, "k": 6e10, "lam": 15.0}), {}),
+        "bumper_linear": (F.LinearBumper, _per({"x_stop": 0.34, "k": 5e6, "c": 2e4},
+                                               {"x_stop": 0.50, "k": 3e3, "c": 10.0},
+                                               {"x_stop": 0.128, "k": 2e6, "c": 5e3}), {}),
+    },
+    "supply_pressure_drop": {
+        "turbulent_accumulator": (C.SupplyPressureDrop,
+                                  _per({"K_s": 8.2e-7, "P0": 9.6e6, "Vg0": 1e-4, "n": 1.4, "V_l": 1e-3, "Pv0": 1.6e7},
+                                       {"K_s": 2e-8, "P0": 6e6, "Vg0": 5e-6, "n": 1.4, "V_l": 5e-5, "Pv0": 1e7},
+                                       {"K_s": 1e-7, "P0": 6e6, "Vg0": 2e-5, "n": 1.4, "V_l": 2e-4, "Pv0": 1e7}),
+                                  {"K_s": -1}),
+        "laminar_line": (F.LaminarSupplyLine, _per({"R_s": 1.5e9, "V_l": 1e-3, "C_w": 1e-13, "Pv0": 1.6e7},
+                                                   {"R_s": 5e10, "V_l": 5e-5, "C_w": 1e-14, "Pv0": 1e7},
+                                                   {"R_s": 1e10, "V_l": 2e-4, "C_w": 0.0, "Pv0": 1e7}),
+                         {"R_s": 1}),
+    },
+    "sensor_lag": {
+        "velocity_2nd_order": (C.SensorLag, _per(*[{"f_c": 5.0, "zeta": 0.7}] * 3), {"f_c": -1}),
+        "pressure_1st_order": (F.PressureSensorLag, _per(*[{"tau_p": 0.005}] * 3), {"tau_p": 1}),
+    },
+}
+
+LIMITS = {"alpha0": (0.0, 0.9), "frac_p": (0.05, 0.9)}
+
+# truth parameters the effect needs ZEROED in the truth base, and the machine-file edits that
+# remove the same term from the case's base.yaml: machine -> effect -> [(truth key, yaml key,
+# yaml value)]. (Effects whose classes carry ``base_overrides`` add theirs.)
+_FRICTION_LIN = {
+    "viscous_friction": [("kv_p", "kv_p", "{value: 0.0, free: false}"),
+                         ("kv_m", "kv_m", "{value: 0.0, free: false}")],
+    "coulomb_friction": [("kc_p", "kc_p", "{value: 0.0, free: false}"),
+                         ("kc_m", "kc_m", "{value: 0.0, free: false}")],
+}
+_FRICTION_ROT = {
+    "viscous_friction": [("kv_p", "b", "{value: 0.0, free: false}"), ("kv_m", None, None)],
+    "coulomb_friction": [("kc_p", "tau_c", "{value: 0.0, free: false}"), ("kc_m", None, None)],
+}
+BASE_ZERO = {
+    "lift": _FRICTION_LIN, "lift_cbv": _FRICTION_LIN, "rotary": _FRICTION_ROT,
+    "eha": {**_FRICTION_LIN,
+            "internal_leakage": [("c_il", "c_il", "{value: 0.0, free: false}")],
+            "stribeck_friction": [("ks_p", "ks_p", "{value: 0.0, free: false}"),
+                                  ("ks_m", "ks_m", "{value: 0.0, free: false}"),
+                                  (None, "vs_p", "{value: 3.41e-3, free: false}"),
+                                  (None, "vs_m", "{value: 1.96e-3, free: false}")]},
+}
+
+
+def forms_of(machine: str, effect: str) -> list[str]:
+    return [f for f, (_, per, _) in FORMS[effect].items() if machine in per]
+
+
+def scaled_params(machine: str, effect: str, form: str, s: float) -> dict:
+    _, per, scale = FORMS[effect][form]
+    p = dict(per[machine])
+    for k, e in scale.items():
+        p[k] = 1.0 + (p[k] - 1.0) * s if e == "d" else p[k] * s ** e
+        if k in LIMITS:
+            p[k] = min(max(p[k], LIMITS[k][0]), LIMITS[k][1])
+    return p
+
+
+def make(effect: str, form: str, params: dict):
+    return FORMS[effect][form][0](**params)

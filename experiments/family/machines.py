@@ -1,0 +1,116 @@
+"""The machine types of the family: nominal truth parameters, which are perturbed and by how
+much, bench settings (supply, controller, setpoint range) and the CSV column names.
+
+Every base parameter is perturbed by a seeded factor, INCLUDING those the machine files keep
+fixed (spool time constant ``tau_v``, rate limit ``s_max``): +-15 %; areas / displacement
+within a manufacturing tolerance of +-1.5 %. Parameters in one ``tie`` group share a factor
+(the rotary friction is symmetric in the machine file).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from experiments.concealed.truth.eha import NOMINAL_BASE as EHA_NOMINAL
+from experiments.concealed.truth.eha import PERTURBED as EHA_PERTURBED
+
+G = 9.81
+
+
+@dataclass(frozen=True)
+class MachineType:
+    name: str
+    truth: str                     # "eha" (concealed/truth/eha.py) or "actuator" (actuator.py)
+    machine_file: str              # machines/<file>, the base machine of every case
+    nominal: dict
+    perturb: dict                  # name -> (half-range, tie group or "")
+    bench: dict
+    columns: dict = field(default_factory=dict)   # internal signal -> (CSV name, unit)
+    with_fext: bool = False
+
+    def csv_header(self) -> str:
+        cols = [("t", "s"), ("u", "%"), ("Ps", "Pa")] + ([("Fext", "N")] if self.with_fext else [])
+        cols += [self.columns[k] for k in ("P1", "P2", "x", "v")]
+        return ",".join(f"{n}[{u}]" for n, u in cols)
+
+
+_STD = 0.15
+_TOL = 0.015
+
+LIFT_NOMINAL = {
+    "kind": "linear", "cbv": 0, "Kv": 3.5e-7, "tau_v": 0.008, "s_max": 1000.0,
+    "A_A": 5.0265e-3, "A_B": 3.4361e-3, "V10": 4.0e-4, "V20": 2.12e-3, "beta": 1.5e9,
+    "c_il": 0.0, "c_el": 0.0, "m": 1500.0, "W": 1500.0 * G, "theta0": 0.0,
+    "kv_p": 6000.0, "kv_m": 7000.0, "kc_p": 500.0, "kc_m": 600.0, "ks_p": 0.0, "ks_m": 0.0,
+    "taus_p": 0.005, "taus_m": 0.005, "eps": 1e-4, "Pd": 1e5, "dp_lam": 5e4,
+}
+LIFT_PERTURB = {**{k: (_STD, "") for k in ("Kv", "tau_v", "s_max", "V10", "V20", "beta", "m",
+                                          "kv_p", "kv_m", "kc_p", "kc_m")},
+                "A_A": (_TOL, ""), "A_B": (_TOL, "")}
+LIFT_BENCH = {"Ps0": 1.6e7, "ripple_amp": 8e4, "ripple_freq": 30.0, "slow_amp": 5e4,
+              "droop_gain": 1.5e8, "droop_tau": 0.03, "ctrl_Kp": 3000.0, "ctrl_Ki": 1500.0,
+              "u_max": 100.0, "x_home": 0.15, "setpoint_range": [0.08, 0.42],
+              "x_bounds": [0.0, 0.5], "speed_big": [0.06, 0.14], "speed_slow": [0.005, 0.02],
+              "step_small": [0.001, 0.008], "step_slow": [0.01, 0.04],
+              "dither_amp": 4.0, "P0": 3.5e6, "PB0": 0.8e6, "Fext_amp": 0.0}
+LIN_COLS = {"P1": ("P1", "Pa"), "P2": ("P2", "Pa"), "x": ("x", "m"), "v": ("v", "m/s")}
+
+CBV_EXTRA = {"cbv": 1, "V_lA": 3.0e-4, "p_cr": 4.2e6, "C1": 3.0, "A0": 1.5e-3, "A1": 5e-4,
+             "n0": 0.5, "Cv_check": 3.33e-6}
+
+ROT_NOMINAL = {
+    "kind": "rotary", "cbv": 0, "Kv": 3.0e-8, "tau_v": 0.008, "s_max": 1000.0,
+    "A_A": 2.0e-5, "A_B": 2.0e-5, "V10": 6.0e-5, "V20": 6.0e-5, "beta": 1.5e9,
+    "c_il": 0.0, "c_el": 0.0, "m": 0.8, "W": 60.0, "theta0": 0.0,
+    "kv_p": 0.5, "kv_m": 0.5, "kc_p": 2.0, "kc_m": 2.0, "ks_p": 0.0, "ks_m": 0.0,
+    "taus_p": 0.05, "taus_m": 0.05, "eps": 1e-3, "Pd": 1e5, "dp_lam": 5e4,
+}
+ROT_PERTURB = {**{k: (_STD, "") for k in ("Kv", "tau_v", "s_max", "V10", "V20", "beta", "m", "W")},
+               "kv_p": (_STD, "kv"), "kv_m": (_STD, "kv"), "kc_p": (_STD, "kc"),
+               "kc_m": (_STD, "kc"), "A_A": (_TOL, "D"), "A_B": (_TOL, "D")}
+ROT_BENCH = {"Ps0": 1.0e7, "ripple_amp": 5e4, "ripple_freq": 25.0, "slow_amp": 3e4,
+             "droop_gain": 2e9, "droop_tau": 0.03, "ctrl_Kp": 180.0, "ctrl_Ki": 90.0,
+             "u_max": 100.0, "x_home": 0.0, "setpoint_range": [-0.8, 0.8],
+             "x_bounds": [-1.4, 1.4], "speed_big": [0.8, 1.6], "speed_slow": [0.05, 0.2],
+             "step_small": [0.01, 0.06], "step_slow": [0.08, 0.3],
+             "dither_amp": 4.0, "P0": 5.0e6, "PB0": 5.0e6, "Fext_amp": 0.0}
+ROT_COLS = {"P1": ("P1", "Pa"), "P2": ("P2", "Pa"), "x": ("theta", "rad"), "v": ("w", "rad/s")}
+
+EHA_BENCH = {"Ps0": 1.0e7, "ripple_amp": 5.0e4, "ripple_freq": 25.0, "slow_amp": 3e4,
+             "droop_gain": 3.0e8, "droop_tau": 0.02, "ctrl_Kp": 500.0, "ctrl_Ki": 250.0,
+             "u_max": 60.0, "x_home": 0.07, "setpoint_range": [0.045, 0.195],
+             "x_bounds": [-0.08, 0.25], "speed_big": [0.08, 0.14], "speed_slow": [0.008, 0.02],
+             "step_small": [0.001, 0.006], "step_slow": [0.008, 0.025],
+             "dither_amp": 2.2, "P0": 5.0e6, "PB0": 5.0e6, "Fext_amp": 1450.0}
+
+MACHINES = {
+    "lift": MachineType("lift", "actuator", "luffing_cylinder.yaml", LIFT_NOMINAL, LIFT_PERTURB,
+                        LIFT_BENCH, LIN_COLS),
+    "lift_cbv": MachineType("lift_cbv", "actuator", "luffing_cylinder_cbv.yaml",
+                            {**LIFT_NOMINAL, **CBV_EXTRA},
+                            {**LIFT_PERTURB, "p_cr": (0.08, ""), "A0": (_STD, "")},
+                            LIFT_BENCH, LIN_COLS),
+    "rotary": MachineType("rotary", "actuator", "rotary_drive.yaml", ROT_NOMINAL, ROT_PERTURB,
+                          ROT_BENCH, ROT_COLS),
+    "eha": MachineType("eha", "eha", "eha_testbench.yaml", dict(EHA_NOMINAL),
+                       {**{k: (_STD, "") for k in EHA_PERTURBED}, "s_max": (_STD, ""),
+                        "A": (_TOL, "")}, EHA_BENCH, LIN_COLS, with_fext=True),
+}
+
+
+def perturbed_params(mt: MachineType, rng) -> tuple[dict, dict]:
+    """Seeded perturbation of the nominal parameters; returns (params, factors)."""
+    p = dict(mt.nominal)
+    fac, groups = {}, {}
+    for k in sorted(mt.perturb):
+        half, tie = mt.perturb[k]
+        if tie and tie in groups:
+            f = groups[tie]
+        else:
+            f = float(rng.uniform(1.0 - half, 1.0 + half))
+            if tie:
+                groups[tie] = f
+        fac[k] = f
+        p[k] = mt.nominal[k] * f
+    if mt.name.startswith("lift"):
+        p["W"] = p["m"] * G          # the load's weight follows its (perturbed) mass
+    return p, fac

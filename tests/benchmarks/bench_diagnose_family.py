@@ -1,0 +1,225 @@
+"""Score ``hydrocli.diagnose`` on the concealed-effect family (experiments/family).
+
+    python tests/benchmarks/bench_diagnose_family.py --data DIR --split dev
+        [--machines lift rotary ...] [--effects E ...] [--limit N] [--jobs 2]
+        [--json OUT.json] [--per-case]
+
+DIR is what ``python -m experiments.family.generate --out DIR`` wrote (DIR/<machine>/<case>/
+with base.yaml, train.csv/json, validate.csv/json). Each case is diagnosed from its base.yaml
+with train.csv for training and validate.csv held out; the sidecar is read only to score.
+
+Prints the confusion matrix (true effect x named top-1), per-effect recall and precision,
+the null false-positive rate, per-machine figures, recall by effect-ESR bucket (< 1 %,
+>= 1 %; a case's effect ESR is the mean of its train and validate 'size'), the validation
+ESR before -> after (and whether it came down to noise + 20 % of the before-gap), and the
+time per case; writes a JSON of the results.
+
+HELD-OUT DISCIPLINE: with ``--split heldout`` nothing case by case is printed or written
+(no progress lines, no per-case rows, the JSON holds aggregates only) unless ``--per-case``
+is given - the held-out part is scored when the work is done, never inspected while tuning.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import sys
+import time
+from collections import Counter, defaultdict
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+GAP_FRACTION = 0.2          # "after <= noise + 20 % of the before-gap"
+BUCKETS = (("<1%", 0.0, 1.0), (">=1%", 1.0, float("inf")))
+
+
+def find_cases(data: Path, split: str, machines, effects, limit):
+    out = []
+    for side in sorted(data.glob("*/*/train.json")):
+        d = json.loads(side.read_text())
+        if split != "all" and d.get("split") != split:
+            continue
+        if machines and d["machine"] not in machines:
+            continue
+        if effects and d["effect"] not in effects:
+            continue
+        out.append(side.parent)
+    return out[:limit] if limit else out
+
+
+def top1(data: dict) -> str:
+    """The diagnosis' first named effect; 'none' / 'unexplained_mismatch' from the verdict."""
+    eff = [e for e in (data.get("effects") or []) if e != "none"]
+    if eff:
+        return eff[0]
+    v = data.get("verdict", "none")
+    return "unexplained_mismatch" if v == "unexplained_mismatch" else "none"
+
+
+def case_truth(folder: Path) -> dict:
+    tr = json.loads((folder / "train.json").read_text())
+    va = json.loads((folder / "validate.json").read_text())
+    size = 0.5 * (tr["effect_esr_percent"]["size"] + va["effect_esr_percent"]["size"])
+    vm = va.get("signal_map", {"P1": "P1", "P2": "P2", "x": "x", "v": "v"})
+    noise = {vm[k]: v for k, v in va["noise_esr_percent"].items() if k in vm}
+    return {"effect": tr["effect"], "form": tr["form"], "machine": tr["machine"], "case": tr["case"],
+            "size": size, "noise": noise}
+
+
+def gap_closed(before: dict, after: dict, noise: dict) -> bool:
+    """after <= noise + GAP_FRACTION (before - noise) on every output that has a noise figure."""
+    ok = True
+    for o, n in noise.items():
+        if o in before and o in after:
+            ok &= after[o] <= n + GAP_FRACTION * max(before[o] - n, 0.0) + 1e-12
+    return bool(ok)
+
+
+def run_case(folder: Path, jobs: int, progress) -> dict:
+    from hydrocli.diagnose import Settings, diagnose
+    t = case_truth(folder)
+    t0 = time.perf_counter()
+    try:
+        d = diagnose(folder / "base.yaml", [folder / "train.csv"], [folder / "validate.csv"],
+                     Settings(jobs=jobs), progress=progress)
+        data = d.data
+        err = None
+    except Exception as exc:                      # one failing case must not stop the bench
+        data, err = {}, f"{type(exc).__name__}: {exc}"
+    wall = time.perf_counter() - t0
+    before = data.get("esr_validation_base", {})
+    after = data.get("esr_validation_final", {})
+    named = top1(data) if err is None else "error"
+    return {**t, "named": named, "named_all": data.get("effects", []), "verdict": data.get("verdict"),
+            "ambiguous": data.get("ambiguous", []), "esr_before": before, "esr_after": after,
+            "gap_closed": gap_closed(before, after, t["noise"]) if err is None else False,
+            "seconds": wall, "error": err}
+
+
+def _pct(a, b):
+    return f"{100.0 * a / b:5.1f} % ({a}/{b})" if b else "   —"
+
+
+def aggregate(rows: list[dict]) -> dict:
+    eff_rows = [r for r in rows if r["effect"] != "none"]
+    nulls = [r for r in rows if r["effect"] == "none"]
+    truths = sorted({r["effect"] for r in rows})
+    named = sorted({r["named"] for r in rows})
+    conf = {t: dict(Counter(r["named"] for r in rows if r["effect"] == t)) for t in truths}
+    per_effect = {}
+    for e in sorted(set(truths) | set(named)):
+        tp = sum(1 for r in rows if r["effect"] == e and r["named"] == e)
+        n_true = sum(1 for r in rows if r["effect"] == e)
+        n_named = sum(1 for r in rows if r["named"] == e)
+        per_effect[e] = {"n": n_true, "recall": tp / n_true if n_true else None,
+                         "precision": tp / n_named if n_named else None, "tp": tp, "named": n_named}
+    by_machine = {}
+    for m in sorted({r["machine"] for r in rows}):
+        er = [r for r in eff_rows if r["machine"] == m]
+        nr = [r for r in nulls if r["machine"] == m]
+        big = [r for r in er if r["size"] >= 1.0]
+        by_machine[m] = {"effect_cases": len(er), "top1": sum(r["named"] == r["effect"] for r in er),
+                         "effect_cases_ge1": len(big), "top1_ge1": sum(r["named"] == r["effect"] for r in big),
+                         "nulls": len(nr), "nulls_none": sum(r["named"] == "none" for r in nr)}
+    buckets = {}
+    for name, lo, hi in BUCKETS:
+        b = [r for r in eff_rows if lo <= r["size"] < hi]
+        buckets[name] = {"n": len(b), "top1": sum(r["named"] == r["effect"] for r in b)}
+    right = [r for r in eff_rows if r["named"] == r["effect"]]
+    secs = [r["seconds"] for r in rows]
+    return {
+        "n_cases": len(rows), "n_effect_cases": len(eff_rows), "n_null": len(nulls),
+        "top1_correct": len(right),
+        "null_false_positive_rate": (sum(r["named"] != "none" for r in nulls) / len(nulls)) if nulls else None,
+        "confusion": conf, "per_effect": per_effect, "per_machine": by_machine, "esr_buckets": buckets,
+        "gap_closed_among_right": {"n": len(right), "closed": sum(r["gap_closed"] for r in right)},
+        "errors": sum(r["error"] is not None for r in rows),
+        "seconds": {"mean": statistics.mean(secs) if secs else None,
+                    "median": statistics.median(secs) if secs else None,
+                    "max": max(secs) if secs else None, "total": sum(secs)},
+    }
+
+
+def print_report(agg: dict):
+    conf, pe = agg["confusion"], agg["per_effect"]
+    cols = sorted({n for row in conf.values() for n in row})
+    short = {c: c[:10] for c in cols}
+    print("\nConfusion matrix (rows: true effect, columns: named top-1)")
+    print(f"{'':30s}" + "".join(f"{short[c]:>11s}" for c in cols))
+    for t in sorted(conf):
+        print(f"{t:30s}" + "".join(f"{conf[t].get(c, 0) or '.':>11}" for c in cols))
+    print("\nPer effect: recall (top-1) / precision")
+    for e, s in pe.items():
+        if s["n"] or s["named"]:
+            rec = f"{s['recall']:.2f}" if s["recall"] is not None else "—"
+            pre = f"{s['precision']:.2f}" if s["precision"] is not None else "—"
+            print(f"  {e:30s} n={s['n']:3d}  recall {rec:>5s}  precision {pre:>5s}")
+    fp = agg["null_false_positive_rate"]
+    print(f"\nNull cases: {agg['n_null']}, false-positive rate "
+          f"{'—' if fp is None else f'{100 * fp:.1f} %'}")
+    print("\nPer machine: top-1 on effect cases | on effect ESR >= 1 % | nulls answered none")
+    for m, s in agg["per_machine"].items():
+        print(f"  {m:10s} {_pct(s['top1'], s['effect_cases'])} | {_pct(s['top1_ge1'], s['effect_cases_ge1'])} | "
+              f"{_pct(s['nulls_none'], s['nulls'])}")
+    print("\nBy effect ESR bucket (top-1):")
+    for b, s in agg["esr_buckets"].items():
+        print(f"  {b:5s} {_pct(s['top1'], s['n'])}")
+    g = agg["gap_closed_among_right"]
+    print(f"\nValidation ESR after <= noise + {int(GAP_FRACTION * 100)} % of the before-gap, among cases "
+          f"named right: {_pct(g['closed'], g['n'])}")
+    s = agg["seconds"]
+    if s["mean"] is not None:
+        print(f"Time per case: mean {s['mean']:.0f} s, median {s['median']:.0f} s, max {s['max']:.0f} s "
+              f"(total {s['total'] / 60:.1f} min); errors: {agg['errors']}")
+
+
+def _fmt_esr(before, after):
+    return ", ".join(f"{k} {before[k]:.2f}→{after.get(k, float('nan')):.2f}" for k in list(before)[:4])
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--data", type=Path, required=True)
+    ap.add_argument("--split", choices=["dev", "heldout", "all"], default="dev")
+    ap.add_argument("--machines", nargs="+", default=None)
+    ap.add_argument("--effects", nargs="+", default=None)
+    ap.add_argument("--limit", type=int, default=None)
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--json", type=Path, default=None, help="results JSON (default DATA/bench_<split>.json)")
+    ap.add_argument("--per-case", action="store_true", help="held-out: print and store per-case rows too")
+    a = ap.parse_args(argv)
+    blind = a.split == "heldout" and not a.per_case
+    cases = find_cases(a.data, a.split, a.machines, a.effects, a.limit)
+    if not cases:
+        print(f"no {a.split} cases under {a.data}", file=sys.stderr)
+        return 2
+    print(f"{len(cases)} {a.split} case(s) under {a.data}" + (" (held-out: aggregates only)" if blind else ""),
+          flush=True)
+    rows = []
+    for k, folder in enumerate(cases, 1):
+        prog = None if blind else (lambda m, c=folder.name: print(f"  [{c}] {m}", file=sys.stderr, flush=True))
+        r = run_case(folder, a.jobs, prog)
+        rows.append(r)
+        if blind:
+            print(f"  {k}/{len(cases)} done", flush=True)
+        else:
+            mark = "OK " if r["named"] == r["effect"] else "-- "
+            print(f"{mark}{r['case']:60s} size {r['size']:5.2f} % named {r['named']:28s} "
+                  f"{_fmt_esr(r['esr_before'], r['esr_after'])}  {r['seconds']:.0f} s"
+                  + (f"  ERROR {r['error']}" if r["error"] else ""), flush=True)
+    agg = aggregate(rows)
+    print_report(agg)
+    out = a.json or (a.data / f"bench_{a.split}.json")
+    payload = {"split": a.split, "data": str(a.data), "aggregate": agg}
+    if not blind:
+        payload["cases"] = rows
+    out.write_text(json.dumps(payload, indent=1, default=str) + "\n")
+    print(f"\nresults → {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
