@@ -164,3 +164,24 @@ def test_shortlist_adds_the_best_competing_candidate_of_each_other_balance():
     assert keys == ["mount", "hyst", "lag", "air"]   # air competes (≥ 1/3 of the top), delay does not
     scores["air"]["p_value"] = 0.2                    # not significant: not fitted
     assert [c.key for c in shortlist(order, scores, 3)] == ["mount", "hyst", "lag", "leak"]
+
+
+def test_rotary_payload_candidate_is_a_new_module_found_by_the_catalogue(tmp_path):
+    """Issue 11: a new candidate is one module (candidates/payload.py) the catalogue discovers.
+    On a vane drive it adds a swinging inertia J_p on a torsion 'rope' k = J_p·g/L to the arm:
+    the swing's natural frequency at the start values is √(g/L) for L = 1 m."""
+    from hydrocli.diagnose.candidates import FAMILIES
+    from hydrocli.diagnose.candidates import payload
+    from hydrocli.model.builder import build_model
+    assert any(isinstance(f, payload.RotaryPayloadFamily) for f in FAMILIES)
+    net = load_netlist_text(ROTARY, str(tmp_path / "vane.yaml"))
+    ctx = Context(net, set(), {}, {"p1": "pressure"}, {"u": 0.0})
+    cands, _ = catalogue(ctx)
+    c = next(c for c in cands if c.effect == "payload_swing")
+    aug = c.build(net)
+    m = build_model(aug)
+    assert {p.name for p in c.params} <= set(m.free_params)
+    jp, k = (aug.components[n.split(".")[0]].params[n.split(".")[1]].value for n in (c.params[0].name, c.params[1].name))
+    assert math.sqrt(k / jp) == pytest.approx(math.sqrt(9.81 / payload.L_START))
+    types = {d.type for d in aug.components.values()}
+    assert {"inertia", "shaft"} <= types

@@ -1,16 +1,31 @@
-"""The catalogue of candidate effects: one module per family (see :mod:`.base`)."""
+"""The catalogue of candidate effects: one module per family (see :mod:`.base`).
+
+Families are found, not listed: every :class:`~.base.Family` subclass defined in a module of
+this package takes part (in module order), so adding a candidate effect is one new module
+(and its test) — nothing else changes.
+"""
 from __future__ import annotations
 
-from .base import VOCABULARY, Candidate, Context, NewParam, Skipped, split
-from .circuit import CircuitFamily
-from .friction import FrictionFamily
-from .leakage import CylinderFamily
-from .mechanics import MechanicsFamily
-from .signals import InputDelayFamily, SensorLagFamily
-from .valve import ValveFamily
+import importlib
+import inspect
+import pkgutil
 
-FAMILIES = (CylinderFamily(), FrictionFamily(), ValveFamily(), CircuitFamily(), MechanicsFamily(),
-            InputDelayFamily(), SensorLagFamily())
+from .base import VOCABULARY, Candidate, Context, Family, NewParam, Skipped, split
+
+
+def _discover() -> tuple[Family, ...]:
+    found = []
+    for mod in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
+        if mod.name == "base":
+            continue
+        module = importlib.import_module(f"{__name__}.{mod.name}")
+        for _, cls in inspect.getmembers(module, inspect.isclass):
+            if issubclass(cls, Family) and cls is not Family and cls.__module__ == module.__name__:
+                found.append(cls())
+    return tuple(found)
+
+
+FAMILIES = _discover()
 
 
 def catalogue(ctx: Context) -> tuple[list[Candidate], list[Skipped]]:
