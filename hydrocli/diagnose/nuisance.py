@@ -1,7 +1,8 @@
 """Nuisance parameters of the base fit: values a machine file keeps FIXED that commonly differ
 from the datasheet on a real machine — the spool time constant and rate limit of every
 metering valve (its role's ``spool_dynamics`` slot; seed 004 eq. 1: a datasheet gives the
-−3 dB frequency at one amplitude and the slew rate of one valve of a batch).
+−3 dB frequency at one amplitude and the slew rate of one valve of a batch), and the areas or
+displacements of every actuator within their manufacturing tolerance (±3 %).
 
 Left fixed at a wrong value they leave a structured residual at every fast command change
 that dynamic candidates (a delay, a line, a compliance, a hysteresis) absorb, and they raise
@@ -20,7 +21,8 @@ from ..components import roles as R
 from ..netlist.model import Netlist
 from . import augment as A
 
-SPAN = 1.43     # bounds: file value / SPAN … × SPAN (≈ ±30 %)
+SPAN = 1.43       # spool dynamics: file value / SPAN … × SPAN (≈ ±30 %)
+AREA_SPAN = 1.03  # actuator areas/displacements: ±3 % (a bore or rod within ±1.5 % of its diameter)
 
 
 @dataclass(frozen=True)
@@ -32,13 +34,24 @@ class Nuisance:
 
 def valve_dynamics(net: Netlist, already_free: set[str]) -> list[Nuisance]:
     """The fixed spool-dynamics parameters of every metering valve (positive values only)."""
+    return _fixed(net, already_free, R.METERING_VALVE, "spool_dynamics", SPAN)
+
+
+def actuator_areas(net: Netlist, already_free: set[str]) -> list[Nuisance]:
+    """The fixed areas (displacements) of every actuator: a drawing's nominal bore and rod
+    differ from the machine's by their tolerance, and on a load-holding cylinder a 1.5 % area
+    error alone leaves a static pressure offset many times the sensor noise."""
+    return _fixed(net, already_free, R.ACTUATOR, "displacements", AREA_SPAN)
+
+
+def _fixed(net: Netlist, already_free: set[str], role_name: str, slot: str, span: float) -> list[Nuisance]:
     out = []
     for comp, decl in net.components.items():
         cls = registry.get(decl.type)
-        role = cls.role(R.METERING_VALVE) if cls is not None else None
+        role = cls.role(role_name) if cls is not None else None
         if role is None:
             continue
-        for pname in role.params_of("spool_dynamics"):
+        for pname in role.params_of(slot):
             name = f"{comp}.{pname}"
             if name in already_free or pname not in decl.params:
                 continue
@@ -47,13 +60,13 @@ def valve_dynamics(net: Netlist, already_free: set[str]) -> list[Nuisance]:
             except (TypeError, ValueError):
                 continue
             if v > 0:
-                out.append(Nuisance(name, v, (v / SPAN, v * SPAN)))
+                out.append(Nuisance(name, v, (v / span, v * span)))
     return out
 
 
 def with_nuisance(net: Netlist, already_free: set[str]) -> tuple[Netlist, list[Nuisance]]:
     """The machine with every nuisance parameter free (log scale) from its file value."""
-    found = valve_dynamics(net, already_free)
+    found = valve_dynamics(net, already_free) + actuator_areas(net, already_free)
     for n in found:
         net = A.free(net, n.name, n.file_value, n.bounds, True)
     return net, found

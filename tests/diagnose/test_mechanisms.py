@@ -185,3 +185,14 @@ def test_rotary_payload_candidate_is_a_new_module_found_by_the_catalogue(tmp_pat
     assert math.sqrt(k / jp) == pytest.approx(math.sqrt(9.81 / payload.L_START))
     types = {d.type for d in aug.components.values()}
     assert {"inertia", "shaft"} <= types
+
+
+def test_actuator_areas_are_nuisance_within_their_tolerance():
+    """Every actuator's fixed areas (displacements, by role) are freed within ±3 %."""
+    net = load_netlist(ROOT / "machines" / "eha_testbench.yaml")
+    found = {n.name: n for n in nuisance.actuator_areas(net, set())}
+    assert set(found) == {"cylinder.A"}
+    a = found["cylinder.A"]
+    assert a.bounds == pytest.approx((a.file_value / 1.03, a.file_value * 1.03))
+    net2, all_found = nuisance.with_nuisance(net, {"valve.s_max"})
+    assert {n.name for n in all_found} == {"valve.tau", "cylinder.A"}
