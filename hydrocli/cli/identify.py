@@ -181,8 +181,9 @@ def _check_samples_left(exps, outputs) -> None:
 
 
 def parse_free(items, model) -> tuple[list[str] | None, dict[str, tuple[float, float]]]:
-    """``comp.param`` or ``comp.param=lo:hi`` (numbers in SI, or strings with units)."""
-    from ..errors import NetlistError, Location, Problem
+    """``comp.param`` or ``comp.param=lo:hi`` (numbers in SI, or strings with units). A bad
+    option is a usage error (exit 2), with the parameter's did-you-mean."""
+    from ..errors import HydroError, Location, Problem, UsageError
     from ..units import to_si
     if not items:
         return None, {}
@@ -190,16 +191,21 @@ def parse_free(items, model) -> tuple[list[str] | None, dict[str, tuple[float, f
     for item in items:
         name, eq, rng = item.partition("=")
         name = name.strip()
-        i = model.param_index(name)
+        try:
+            i = model.param_index(name)
+            if eq:
+                parts = rng.split(":")
+                if len(parts) != 2:
+                    raise UsageError(Problem(f"--free {item}: bounds must be lo:hi", Location(path=f"--free {item}"),
+                                             "e.g. --free valve.Kv=1e-7:2e-6 or --free cylinder.beta='0.5 GPa:2 GPa'"))
+                unit = model.params[i].unit
+                lo, hi = (to_si(p.strip(), unit, location=Location(path=f"--free {item}"), what=name) for p in parts)
+                bounds[name] = (lo, hi)
+        except UsageError:
+            raise
+        except HydroError as err:
+            raise UsageError(err.problems) from None
         names.append(name)
-        if eq:
-            parts = rng.split(":")
-            if len(parts) != 2:
-                raise NetlistError(Problem(f"--free {item}: bounds must be lo:hi", Location(path=f"--free {item}"),
-                                           "e.g. --free valve.Kv=1e-7:2e-6 or --free cylinder.beta='0.5 GPa:2 GPa'"))
-            unit = model.params[i].unit
-            lo, hi = (to_si(p.strip(), unit, location=Location(path=f"--free {item}"), what=name) for p in parts)
-            bounds[name] = (lo, hi)
     return names, bounds
 
 

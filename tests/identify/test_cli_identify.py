@@ -131,8 +131,10 @@ def test_nelder_mead_seed004_cost_and_free_bounds_with_units(tmp_path, eha):
     assert abs(kv / truth[model.param_index("valve.Kv")] - 1) < 0.02
 
 
-def test_bad_free_option_exits_3(tmp_path, eha):
+def test_bad_free_option_is_a_usage_error(tmp_path, eha):
     r = _invoke("identify", EHA, "-e", "x.csv", "--free", "valve.Kvv", "--out", tmp_path / "id.yaml")
-    assert r.exit_code == 3 and "valve.Kv" in r.output          # did-you-mean
+    assert r.exit_code == 2 and "valve.Kv" in r.output          # did-you-mean
     r = _invoke("identify", EHA, "-e", "x.csv", "--free", "valve.Kv=1", "--out", tmp_path / "id.yaml")
-    assert r.exit_code == 3 and "lo:hi" in r.output
+    assert r.exit_code == 2 and "lo:hi" in r.output
+    r = _invoke("identify", EHA, "-e", "x.csv", "--free", "valve.Kv=1 kg:2 kg", "--out", tmp_path / "id.yaml")
+    assert r.exit_code == 2 and "Traceback" not in r.output
