@@ -238,8 +238,13 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                   locate.output_quantities(stage.model), _inputs_start(su.model, train))
     cands, skipped = catalogue(ctx)
     done = {a["key"] for a in accepted if "key" in a}
-    cands = [c for c in cands if c.key not in done and c.effect not in {a["effect"] for a in accepted}
-             and (not st.only or c.effect in st.only)]
+    found = {(a["effect"], a["component"]) for a in accepted}
+    # an effect already accepted is not offered again, except in its OTHER forms on the same
+    # component (a worn-seal orifice on top of the laminar leak): once the main effect is in,
+    # what remains is mostly its form mismatch, which the effect's own other forms should take
+    # before unrelated candidates mop it up
+    cands = [c for c in cands if c.key not in done and (not st.only or c.effect in st.only)
+             and (c.effect not in {a["effect"] for a in accepted} or ((c.effect, c.component) in found and c.variant))]
     out = Round([], skipped=[{"effect": s.effect, "reason": s.reason} for s in skipped])
     texts = {}
     for c in cands:
@@ -408,7 +413,7 @@ def _polish(su: Setup, stage: Stage, c: Candidate, text: str, f: dict, n_eff: fl
 # -- step 4 -------------------------------------------------------------------------------
 def conclude(su: Setup, b: Baseline, final: Stage, accepted: list[dict], ranking: list[dict], skipped: list[dict],
              train_paths, validate_paths, t_start: float) -> dict:
-    effects = [a["effect"] for a in accepted]
+    effects = list(dict.fromkeys(a["effect"] for a in accepted))
     mismatch = None if effects else findings.unexplained(final.esr_validation, su.noise, b.located)
     verdict = "missing_physics" if effects else ("unexplained_mismatch" if mismatch else "none")
     n_eff = _n_eff(su.model, su.train, b.stage.Y_train, su.outputs)
