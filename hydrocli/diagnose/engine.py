@@ -45,7 +45,7 @@ ALTERNATIVE = 0.8   # another passing effect with ΔBIC ≥ 80 % of the winner's
 class Settings:
     max_effects: int = 3
     jobs: int = 2
-    top: int = 3                 # candidates re-identified per round
+    top: int = 4                 # effects re-identified per round (their best-screening forms)
     base_evals: int = 30         # optimiser iterations (f-evaluations) of the base fit
     candidate_evals: int = 15
     window_s: float = 0.5
@@ -315,19 +315,26 @@ RIVAL_SHARE = 1 / 3  # … and explains at least a third of what the top candida
 
 
 def shortlist(order: list[Candidate], scores: dict, n_fit: int) -> list[Candidate]:
-    """The candidates to re-identify: the ``n_fit`` best by score, plus the best candidate of
+    """The candidates to re-identify: the best-screening form of each of the ``n_fit`` best
+    EFFECTS (two forms of one effect must not crowd out a different effect), plus the best candidate of
     measurement) that competes: its score test is significant (p < ``RIVAL_P``) and it explains
     at least ``RIVAL_SHARE`` of what the top candidate explains. Effects that act in
     different balances can mimic each other over the conditions recorded (air in the chamber
     against a compliant mount, a line against a sensor lag); a screening score alone, a
     linearisation at one probe value, must not decide between them — the fits do."""
-    picked = list(order[:n_fit])
+    picked, effects = [], set()
+    for c in order:                       # the best FORM of each of the n_fit best effects
+        if len(effects) >= n_fit:
+            break
+        if c.effect not in effects:
+            picked.append(c)
+            effects.add(c.effect)
     if not order:
         return picked
     top = scores[order[0].key]["dr2"]
     seen = {c.equation for c in picked}
-    for c in order[n_fit:]:
-        if (c.equation not in seen and scores[c.key]["p_value"] < RIVAL_P
+    for c in order:
+        if (c not in picked and c.equation not in seen and scores[c.key]["p_value"] < RIVAL_P
                 and scores[c.key]["dr2"] >= RIVAL_SHARE * top):
             picked.append(c)
             seen.add(c.equation)

@@ -155,13 +155,19 @@ def test_discriminating_design_separates_two_models_and_loads(tmp_path):
 
 def test_shortlist_adds_the_best_competing_candidate_of_each_other_balance():
     from hydrocli.diagnose.engine import shortlist
-    C = lambda key, eq: SimpleNamespace(key=key, equation=eq)
+    C = lambda key, eq: SimpleNamespace(key=key, equation=eq, effect=key)
     order = [C("mount", "force"), C("hyst", "valve"), C("lag", "measurement"), C("delay", "signal"),
              C("air", "continuity"), C("leak", "continuity"), C("stop", "force")]
     dr2 = {"mount": 0.41, "hyst": 0.32, "lag": 0.30, "delay": 0.09, "air": 0.20, "leak": 0.19, "stop": 0.3}
     scores = {k: {"dr2": v, "p_value": 1e-9} for k, v in dr2.items()}
     keys = [c.key for c in shortlist(order, scores, 3)]
     assert keys == ["mount", "hyst", "lag", "air"]   # air competes (≥ 1/3 of the top), delay does not
+    # two forms of one effect do not crowd out another effect
+    forms = [C("edges", "valve"), C("ratio", "valve"), C("ext", "continuity"), C("int", "continuity")]
+    for c, e in zip(forms, ("asym", "asym", "ext", "int")):
+        c.effect = e
+    sc = {k: {"dr2": v, "p_value": 1e-9} for k, v in {"edges": 0.84, "ratio": 0.83, "ext": 0.77, "int": 0.45}.items()}
+    assert [c.key for c in shortlist(forms, sc, 3)] == ["edges", "ext", "int"]
     scores["air"]["p_value"] = 0.2                    # not significant: not fitted
     assert [c.key for c in shortlist(order, scores, 3)] == ["mount", "hyst", "lag", "leak"]
 
