@@ -16,6 +16,12 @@ from ...components.base import Domain
 from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 
+REF_SIZE = 2.0994e-3   # m²: seed 004's piston area, where the leakage ranges below were set.
+# Leakage ranges scale with the actuator's size (area, or displacement per radian): a leak
+# conductance c matters through the drift speed c·Δp/size it allows, so the same ranges of
+# DRIFT (≈ 2.4 mm/s or mrad/s at 100 bar at the plausible lower end) hold for every actuator.
+
+
 class CylinderFamily(Family):
     effects = ("internal_leakage", "external_leakage", "entrained_air", "end_stop")
 
@@ -26,40 +32,43 @@ class CylinderFamily(Family):
             return [Skipped(e, "no actuator (cylinder, motor, vane) in the machine") for e in self.effects]
         for act in acts:
             a, b = act.node("chamber_a"), act.node("chamber_b")
-            out.append(self._internal(ctx, act, a, b))
-            out.append(self._external(ctx, act, a, b))
+            k = _size(ctx, act) / REF_SIZE
+            out.append(self._internal(ctx, act, a, b, k))
+            out.append(self._external(ctx, act, a, b, k))
             out.append(self._air(ctx, act, a, b))
             out.append(self._end_stop(ctx, act))
         return out
 
-    def _internal(self, ctx: Context, act: Part, a: str, b: str):
+    def _internal(self, ctx: Context, act: Part, a: str, b: str, k: float):
         name = act.param("internal_leakage")
         if name is not None:
             il = self.parameter_candidate(
-                ctx, "internal_leakage", act.name, [NewParam(name, 1e-13, (1e-14, 1e-9), (5e-13, 5e-10), 2e-11, True)],
+                ctx, "internal_leakage", act.name,
+                [NewParam(name, 1e-13 * k, (1e-14 * k, 1e-9 * k), (5e-13 * k, 5e-10 * k), 2e-11 * k, True)],
                 "continuity", "laminar leakage across the piston/vane, q = c_il·(p_A − p_B)")
             if not isinstance(il, Skipped):
                 return il
             # laminar law already identified: try a worn-seal orifice
             return _orifice(ctx, "internal_leakage", act.name, [(a, b)],
-                            "turbulent leakage across a worn piston seal (orifice A→B), on top of the laminar one")
-        return _laminar(ctx, "internal_leakage", act.name, [(a, b)], "laminar cross-port leakage A→B")
+                            "turbulent leakage across a worn piston seal (orifice A→B), on top of the laminar one", k)
+        return _laminar(ctx, "internal_leakage", act.name, [(a, b)], "laminar cross-port leakage A→B", k)
 
-    def _external(self, ctx: Context, act: Part, a: str, b: str):
+    def _external(self, ctx: Context, act: Part, a: str, b: str, k: float):
         tank = _tank_node(ctx)
         name = act.param("external_leakage")
         if name is not None:
             el = self.parameter_candidate(
-                ctx, "external_leakage", act.name, [NewParam(name, 1e-14, (1e-15, 1e-9), (1e-13, 5e-10), 1e-11, True)],
+                ctx, "external_leakage", act.name,
+                [NewParam(name, 1e-14 * k, (1e-15 * k, 1e-9 * k), (1e-13 * k, 5e-10 * k), 1e-11 * k, True)],
                 "continuity", "laminar leakage of each chamber to drain, q = c_el·p")
             if not isinstance(el, Skipped) or tank is None:
                 return el
             return _orifice(ctx, "external_leakage", act.name, [(a, tank), (b, tank)],
-                            "rod/piston seals leaking to drain through orifices (turbulent law)")
+                            "rod/piston seals leaking to drain through orifices (turbulent law)", k)
         if tank is None:
             return Skipped("external_leakage", f"no tank to drain '{act.name}' to")
         return _laminar(ctx, "external_leakage", act.name, [(a, tank), (b, tank)],
-                        "laminar leakage of each chamber to drain")
+                        "laminar leakage of each chamber to drain", k)
 
     def _air(self, ctx: Context, act: Part, a: str, b: str):
         name = act.param("air")
@@ -109,12 +118,15 @@ def _tank_node(ctx: Context) -> str | None:
     return tanks[0].node("node") if tanks else None
 
 
-def _orifice(ctx: Context, effect: str, owner: str, paths: list[tuple[str, str]], description: str) -> Candidate:
-    """Leakage paths as turbulent orifices (q = K·dp/(dp² + dp_t²)^¼, seed 004 eq. 3 form)."""
+def _orifice(ctx: Context, effect: str, owner: str, paths: list[tuple[str, str]], description: str,
+             s: float = 1.0) -> Candidate:
+    """Leakage paths as turbulent orifices (q = K·dp/(dp² + dp_t²)^¼, seed 004 eq. 3 form);
+    ranges scaled by the actuator's size ratio ``s``."""
     typ, role = ctx.element(R.RESTRICTION, Domain.HYDRAULIC)
     names = [A.unique_name(ctx.net, f"{owner}_{effect}_{i + 1}") for i in range(len(paths))]
     k = role.param("conductance")
-    params = [NewParam(f"{n}.{k}", 1e-11, (1e-12, 1e-6), (3e-10, 1e-6), 1e-8, True) for n in names]
+    params = [NewParam(f"{n}.{k}", 1e-11 * s, (1e-12 * s, 1e-6 * s), (3e-10 * s, 1e-6 * s), 1e-8 * s, True)
+              for n in names]
 
     def build(net):
         for n, (a, b) in zip(names, paths):
@@ -123,18 +135,20 @@ def _orifice(ctx: Context, effect: str, owner: str, paths: list[tuple[str, str]]
     return Candidate(effect, owner, params, build, "continuity", description, variant="orifice")
 
 
-def _laminar(ctx: Context, effect: str, owner: str, paths: list[tuple[str, str]], description: str) -> Candidate:
+def _laminar(ctx: Context, effect: str, owner: str, paths: list[tuple[str, str]], description: str,
+             s: float = 1.0) -> Candidate:
     """Leakage paths as laminar restrictions Δp = R·q, identified as a resistance on a log
-    scale (started where no flow passes: R = 1e16 Pa·s/m³, i.e. a conductance of 1e-16)."""
+    scale (started where no flow passes: R = 1e16/s Pa·s/m³), ``s`` the actuator's size ratio."""
     typ, role = ctx.element(R.LAMINAR_RESTRICTION, Domain.HYDRAULIC)
     names = [A.unique_name(ctx.net, f"{owner}_{effect}_{i + 1}") for i in range(len(paths))]
     r = role.param("resistance")
-    # plausibility on the conductance scale of the parameter-form candidates (5e-13…5e-10 m³/s/Pa)
-    params = [NewParam(f"{n}.{r}", 1e16, (1e9, 1e17), (2e9, 2e12), 5e10, True, ref=0.0) for n in names]
+    # plausibility on the conductance scale of the parameter-form candidates (5e-13…5e-10·s m³/s/Pa)
+    params = [NewParam(f"{n}.{r}", 1e16 / s, (1e9 / s, 1e17 / s), (2e9 / s, 2e12 / s), 5e10 / s, True, ref=0.0)
+              for n in names]
 
     def build(net):
         for n, (a, b) in zip(names, paths):
-            net = A.add(net, n, typ, {role.port("a"): a, role.port("b"): b}, {r: 1e16})
+            net = A.add(net, n, typ, {role.port("a"): a, role.port("b"): b}, {r: 1e16 / s})
         return A.free_new(net, params)
     return Candidate(effect, owner, params, build, "continuity", description, variant="laminar")
 
