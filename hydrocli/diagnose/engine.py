@@ -287,13 +287,14 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     if not passing:
         _log(progress, "  no candidate passes BIC + validation + plausibility")
         return out
-    passing.sort(key=lambda x: x[0])
+    passing = _rank_passing(passing)
     dbic_best, c, f = passing[0]
     alternatives = [{"effect": c2.effect, "component": c2.component, "delta_bic": d2,
                      "esr_validation_after": f2["esr_validation"]}
-                    for d2, c2, f2 in passing[1:] if c2.effect != c.effect and d2 <= ALTERNATIVE * dbic_best]
+                    for d2, c2, f2 in passing[1:] if c2.effect != c.effect and d2 <= ALTERNATIVE * min(p[0] for p in passing)]
     band = accept.need(val0, su.noise_total)
-    rival = next(((d2, c2, f2) for d2, c2, f2 in passing[1:] if c2.effect != c.effect and d2 <= ALTERNATIVE * dbic_best
+    rival = next(((d2, c2, f2) for d2, c2, f2 in passing[1:] if c2.effect != c.effect
+                  and d2 <= ALTERNATIVE * min(p[0] for p in passing)
                   and abs(residuals.total(f2["esr_validation"]) - residuals.total(f["esr_validation"])) < band), None)
     if rival is not None:
         out.ambiguous = _ambiguous(su, (dbic_best, c, f), rival, texts, progress)
@@ -380,6 +381,19 @@ def _judge(c: Candidate, score: dict, f: dict | None, round_: int, ssr0: float, 
     if score["error"]:
         row["error"] = score["error"]
     return row, passed
+
+
+def _rank_passing(passing: list) -> list:
+    """Passing candidates, the accepted one first. BIC ranks them on the training data; among
+    those whose ΔBIC is within ``ALTERNATIVE`` of the best (the training data barely tell them
+    apart, e.g. seal friction on a gravity-loaded cylinder, whose |p_A − p_B| hardly varies,
+    against Coulomb friction) the held-out data decide: the lowest summed validation ESR."""
+    passing = sorted(passing, key=lambda x: x[0])
+    best = passing[0][0]
+    close = [p for p in passing if p[0] <= ALTERNATIVE * best]
+    rest = [p for p in passing if p[0] > ALTERNATIVE * best]
+    close.sort(key=lambda x: residuals.total(x[2]["esr_validation"]))
+    return close + rest
 
 
 def _ambiguous(su: Setup, win, rival, texts: dict, progress) -> dict:

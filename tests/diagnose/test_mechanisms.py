@@ -202,3 +202,12 @@ def test_actuator_areas_are_nuisance_within_their_tolerance():
     assert a.bounds == pytest.approx((a.file_value / 1.03, a.file_value * 1.03))
     net2, all_found = nuisance.with_nuisance(net, {"valve.s_max"})
     assert {n.name for n in all_found} == {"valve.tau", "cylinder.A"}
+
+
+def test_near_ties_on_training_bic_are_decided_by_held_out_data():
+    from hydrocli.diagnose.engine import _rank_passing
+    seal = (-9955.0, SimpleNamespace(effect="pressure_dependent_friction"), {"esr_validation": {"P1": 0.50, "v": 0.26}})
+    coul = (-9803.0, SimpleNamespace(effect="coulomb_friction"), {"esr_validation": {"P1": 0.32, "v": 0.33}})
+    far = (-3000.0, SimpleNamespace(effect="valve_overlap"), {"esr_validation": {"P1": 0.10, "v": 0.10}})
+    ranked = _rank_passing([seal, far, coul])
+    assert [r[1].effect for r in ranked] == ["coulomb_friction", "pressure_dependent_friction", "valve_overlap"]
