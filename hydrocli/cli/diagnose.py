@@ -17,7 +17,7 @@ def register(app: typer.Typer) -> None:
                                  "augmented.yaml and report.pdf"),
         max_effects: int = typer.Option(3, "--max-effects", min=0, help="effects to add at most"),
         jobs: int = typer.Option(2, "--jobs", "-j", min=1, help="worker processes for candidate fits"),
-        top: int = typer.Option(4, "--top", min=1, help="effects re-identified per round (their best-screening forms)"),
+        top: int = typer.Option(3, "--top", min=1, help="effects re-identified per round (their best-screening forms)"),
         no_pdf: bool = typer.Option(False, "--no-pdf", help="skip the PDF report"),
         scheduler: str = typer.Option(None, "--scheduler", help="Dask scheduler address (tcp://HOST:PORT) for "
                                       "the candidate fits; default: a local process pool of --jobs workers"),

@@ -45,12 +45,16 @@ ALTERNATIVE = 0.8   # another passing effect with ΔBIC ≥ 80 % of the winner's
 class Settings:
     max_effects: int = 3
     jobs: int = 2
-    top: int = 4                 # effects re-identified per round (their best-screening forms)
+    top: int = 3                 # effects re-identified per round (their best-screening forms)
     base_evals: int = 30         # optimiser iterations (f-evaluations) of the base fit
     candidate_evals: int = 15
     window_s: float = 0.5
     only: tuple[str, ...] = ()   # restrict the catalogue to these effects (empty: all)
     nuisance: bool = True        # free the valves' spool dynamics in the base fit
+    # candidate fits (and their control) on finite differences: forward sensitivities are not
+    # error-controlled and lose accuracy through stick–slip and contact events, exactly where
+    # friction and stop candidates act; the base fit uses them ("auto")
+    candidate_gradient: str = "finite-differences"
     scheduler: str | None = None  # Dask scheduler address (None: local process pool)
 
 
@@ -264,10 +268,11 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     best = shortlist([c for c in order if scores[c.key]["error"] is None], scores, n_fit)
     _log(progress, "  best: " + ", ".join(f"{c.key} ({100 * scores[c.key]['dr2']:.1f} %)" for c in best))
     control = dict(common, key=CONTROL, text=augment.text_of(stage.net), validate=validate,
-                   max_evals=st.candidate_evals, n_eff=n_eff)
+                   max_evals=st.candidate_evals, n_eff=n_eff, gradient=st.candidate_gradient)
     fits = workers.run_all(workers.fit_one, [control] + [dict(common, key=c.key, text=texts[c.key],
                                                               validate=validate, starts=scores[c.key].get("starts"),
-                                                              max_evals=st.candidate_evals, n_eff=n_eff)
+                                                              max_evals=st.candidate_evals, n_eff=n_eff,
+                                                              gradient=st.candidate_gradient)
                                                          for c in best], pool)
     fits = {f["key"]: f for f in fits}
     # the control is the current model re-identified with the same budget: a candidate must
@@ -423,7 +428,8 @@ def _polish(su: Setup, stage: Stage, c: Candidate, text: str, f: dict, n_eff: fl
     p_c = workers.warm_vector(model_c, f["param_names"], f["p"])
     free_c = list(model_c.free_params)
     _log(progress, f"  polishing the model with {c.effect} (all {len(free_c)} free parameters)…")
-    pol = baseline.identify(model_c, su.train, p_start=p_c, iterations=st.base_evals)
+    pol = baseline.identify(model_c, su.train, p_start=p_c, iterations=st.base_evals,
+                            gradient=st.candidate_gradient)
     if pol.cost < f["cost"]:
         p_c, f = pol.p, dict(f, cost=pol.cost, names=pol.names, estimates=pol.estimates.tolist(),
                              stderr=baseline.inflated_stderr(pol, n_eff).tolist())

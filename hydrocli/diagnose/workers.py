@@ -94,7 +94,8 @@ def fit_one(job: dict) -> dict:
             if best is None or c < best[0]:
                 best = (c, q)
         p = best[1]
-        res = baseline.identify(model, job["train"], p_start=p, iterations=job["max_evals"])
+        res = baseline.identify(model, job["train"], p_start=p, iterations=job["max_evals"],
+                                gradient=job.get("gradient", "auto"))
         Ytr = residuals.simulate_outputs(model, job["train"], res.p)
         Yva = residuals.simulate_outputs(model, job["validate"], res.p)
         return {"key": job["key"], "error": None, "names": res.names, "estimates": res.estimates.tolist(),
