@@ -53,7 +53,8 @@ class Settings:
     nuisance: bool = True        # free the valves' spool dynamics in the base fit
     # candidate fits (and their control) on finite differences: forward sensitivities are not
     # error-controlled and lose accuracy through stick–slip and contact events, exactly where
-    # friction and stop candidates act; the base fit uses them ("auto")
+    # friction and stop candidates act; the base fit and the polish of the accepted model
+    # (which starts at the candidate's optimum) use them ("auto")
     candidate_gradient: str = "finite-differences"
     scheduler: str | None = None  # Dask scheduler address (None: local process pool)
 
@@ -422,17 +423,22 @@ def _ambiguous(su: Setup, win, rival, texts: dict, progress) -> dict:
 
 
 def _polish(su: Setup, stage: Stage, c: Candidate, text: str, f: dict, n_eff: float, st: Settings, progress):
-    """The accepted model re-identified with all its parameters free."""
+    """The accepted model re-identified with all its parameters free (exact sensitivities),
+    kept only if it fits the training data better AND does not predict the held-out data
+    worse than the candidate's own fit (early stopping on held-out data: with every nuisance
+    parameter free a polish can trade them against the new effect's parameters)."""
     aug = augment.reload(stage.net, text)
     model_c = build_model(aug)
     p_c = workers.warm_vector(model_c, f["param_names"], f["p"])
     free_c = list(model_c.free_params)
     _log(progress, f"  polishing the model with {c.effect} (all {len(free_c)} free parameters)…")
-    pol = baseline.identify(model_c, su.train, p_start=p_c, iterations=st.base_evals,
-                            gradient=st.candidate_gradient)
+    pol = baseline.identify(model_c, su.train, p_start=p_c, iterations=st.base_evals)
     if pol.cost < f["cost"]:
-        p_c, f = pol.p, dict(f, cost=pol.cost, names=pol.names, estimates=pol.estimates.tolist(),
-                             stderr=baseline.inflated_stderr(pol, n_eff).tolist())
+        Yva = residuals.simulate_outputs(model_c, su.validate, pol.p)
+        val = residuals.total(residuals.esr_table(model_c, su.validate, Yva, su.outputs))
+        if val <= residuals.total(f["esr_validation"]):
+            p_c, f = pol.p, dict(f, cost=pol.cost, names=pol.names, estimates=pol.estimates.tolist(),
+                                 stderr=baseline.inflated_stderr(pol, n_eff).tolist())
     aug = augment.set_values(aug, {n: p_c[model_c.param_index(n)] for n in free_c})
     return _stage(aug, model_c, p_c, f["cost"], free_c, su.train, su.validate, su.outputs), f
 
