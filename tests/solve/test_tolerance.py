@@ -119,7 +119,9 @@ def test_eha_quickstart_tracks_rtol():
 
 @pytest.mark.slow
 def test_festo_steps_track_rtol():
-    model = build_model(load_netlist(ROOT / "machines" / "festo_tp511.yaml"))
+    # the machine the bounds were measured on (no end cushions: their needle flows at the
+    # stroke ends give ratios up to ~23 at rtol 1e-5; docs/solver.md)
+    model = build_model(load_netlist(Path(__file__).parent / "data" / "festo_tp511_no_cushion.yaml"))
     t = np.arange(0.0, 3.0 + 1e-4, 2e-3)
     u = np.interp(t, [0, 0.1, 0.102, 1.4, 1.402, 1.5, 1.502, 3.0], [0, 0, 4, 4, 0, 0, -4, -4])
     inputs = InputTable(t, u[:, None])
