@@ -38,6 +38,8 @@ from .measurement import sensed_states, with_pressure_sensors
 
 
 CONTROL = "control: current model, same budget"
+SWITCHING = frozenset({"coulomb_friction", "stribeck_friction", "pressure_dependent_friction", "end_stop",
+                       "valve_hysteresis", "valve_overlap"})   # effects whose law switches (sign, contact, band)
 ALTERNATIVE = 0.8   # another passing effect with ΔBIC ≥ 80 % of the winner's is reported as nearly as good
 
 
@@ -51,11 +53,10 @@ class Settings:
     window_s: float = 0.5
     only: tuple[str, ...] = ()   # restrict the catalogue to these effects (empty: all)
     nuisance: bool = True        # free the valves' spool dynamics in the base fit
-    # candidate fits (and their control) on finite differences: forward sensitivities are not
-    # error-controlled and lose accuracy through stick–slip and contact events, exactly where
-    # friction and stop candidates act; the base fit and the polish of the accepted model
-    # (which starts at the candidate's optimum) use them ("auto")
-    candidate_gradient: str = "finite-differences"
+    # fits of candidates that switch (friction, stops, dead bands, play) on finite differences:
+    # forward sensitivities are not error-controlled and lose accuracy through stick–slip and
+    # contact events, exactly where those act; every other fit uses them ("auto")
+    switching_gradient: str = "finite-differences"
     scheduler: str | None = None  # Dask scheduler address (None: local process pool)
 
 
@@ -268,22 +269,27 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     n_fit = st.top if round_ == 0 else max(1, st.top - 1)   # later rounds: residual already small
     best = shortlist([c for c in order if scores[c.key]["error"] is None], scores, n_fit)
     _log(progress, "  best: " + ", ".join(f"{c.key} ({100 * scores[c.key]['dr2']:.1f} %)" for c in best))
-    control = dict(common, key=CONTROL, text=augment.text_of(stage.net), validate=validate,
-                   max_evals=st.candidate_evals, n_eff=n_eff, gradient=st.candidate_gradient)
-    fits = workers.run_all(workers.fit_one, [control] + [dict(common, key=c.key, text=texts[c.key],
-                                                              validate=validate, starts=scores[c.key].get("starts"),
-                                                              max_evals=st.candidate_evals, n_eff=n_eff,
-                                                              gradient=st.candidate_gradient)
-                                                         for c in best], pool)
+    grad = {c.key: st.switching_gradient if c.effect in SWITCHING else "auto" for c in best}
+    # one control per gradient in use: each candidate is compared with the current model
+    # re-identified with the same budget AND the same Jacobian (a fair comparison)
+    controls = [dict(common, key=f"{CONTROL} ({g})", text=augment.text_of(stage.net), validate=validate,
+                     max_evals=st.candidate_evals, n_eff=n_eff, gradient=g) for g in sorted(set(grad.values()))]
+    fits = workers.run_all(workers.fit_one, controls + [dict(common, key=c.key, text=texts[c.key],
+                                                             validate=validate, starts=scores[c.key].get("starts"),
+                                                             max_evals=st.candidate_evals, n_eff=n_eff,
+                                                             gradient=grad[c.key]) for c in best], pool)
     fits = {f["key"]: f for f in fits}
-    # the control is the current model re-identified with the same budget: a candidate must
-    # beat it, not just the extra optimiser iterations it got (fair comparison)
-    ctl = fits.pop(CONTROL)
-    ssr0, val0 = stage.cost, residuals.total(stage.esr_validation)
-    if ctl.get("error") is None and ctl["cost"] < ssr0:
-        ssr0, val0 = ctl["cost"], min(val0, residuals.total(ctl["esr_validation"]))
+    base_ref = {}
+    for g in set(grad.values()):
+        ctl = fits.pop(f"{CONTROL} ({g})")
+        ssr, val = stage.cost, residuals.total(stage.esr_validation)
+        if ctl.get("error") is None and ctl["cost"] < ssr:
+            ssr, val = ctl["cost"], min(val, residuals.total(ctl["esr_validation"]))
+        base_ref[g] = (ssr, val)
+    v_base = min([v for _, v in base_ref.values()] + [residuals.total(stage.esr_validation)])
     passing = []
     for c in order:
+        ssr0, val0 = base_ref.get(grad.get(c.key), (stage.cost, v_base))
         row, passed = _judge(c, scores[c.key], fits.get(c.key), round_, ssr0, val0, n_eff, su.noise_total,
                              accepted, located)
         out.rows.append(row)
@@ -298,7 +304,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     alternatives = [{"effect": c2.effect, "component": c2.component, "delta_bic": d2,
                      "esr_validation_after": f2["esr_validation"]}
                     for d2, c2, f2 in passing[1:] if c2.effect != c.effect and d2 <= ALTERNATIVE * min(p[0] for p in passing)]
-    band = accept.need(val0, su.noise_total)
+    band = accept.need(v_base, su.noise_total)
     rival = next(((d2, c2, f2) for d2, c2, f2 in passing[1:] if c2.effect != c.effect
                   and d2 <= ALTERNATIVE * min(p[0] for p in passing)
                   and abs(residuals.total(f2["esr_validation"]) - residuals.total(f["esr_validation"])) < band), None)
