@@ -96,6 +96,15 @@ class Context:
             return []
         return [p for p in self.parts(role) if (p.node(slot) == node if slot else node in p.ports.values())]
 
+    def size(self, act: "Part") -> float:
+        """An actuator's size (its role's ``size``: area, or displacement per radian); 1e-3
+        when it cannot be read."""
+        name = act.param("size")
+        try:
+            return abs(self.value(name)) if name else 1e-3
+        except (KeyError, TypeError, ValueError):
+            return 1e-3
+
     def domain(self, node: str) -> Domain | None:
         for comp, port in self.on_node(node):
             spec = registry.get(self.net.components[comp].type)

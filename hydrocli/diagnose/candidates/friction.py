@@ -30,7 +30,7 @@ class FrictionFamily(Family):
             return [Skipped(e, "no actuator to attach friction to") for e in self.effects]
         for act in acts:
             node = act.node("motion")
-            fmax = SEAL_PRESSURE * _size(ctx, act)
+            fmax = SEAL_PRESSURE * ctx.size(act)
             fr = next((f for f in ctx.parts_on(node, R.FRICTION, "a")), None)
             if fr is None:
                 out.extend(self._new_friction(ctx, act, node, fmax))
@@ -51,7 +51,7 @@ class FrictionFamily(Family):
 
     def _pressure(self, ctx: Context, fr: Part, act: Part, fmax: float):
         out = []
-        area = _size(ctx, act)
+        area = ctx.size(act)
         mu = fr.param("pressure")
         if mu is not None and fr.role.port("pressure_a"):
             connect = {fr.role.port("pressure_a"): act.node("chamber_a"), fr.role.port("pressure_b"): act.node("chamber_b")}
@@ -72,7 +72,7 @@ class FrictionFamily(Family):
             return [Skipped(e, str(exc)) for e in self.effects]
         fr = A.unique_name(ctx.net, f"{act.name}_friction")
         ref = act.node("reference") or "ground"
-        area = _size(ctx, act)
+        area = ctx.size(act)
         out = []
 
         def adder(params, fixed=None, pressures=False):
@@ -127,10 +127,3 @@ def _seal(ctx: Context, owner: str, act: Part, area: float):
                      "piston-seal friction growing with the pressure difference, μ_d·A·|p_A − p_B|·sign(v)",
                      variant="dp")
 
-
-def _size(ctx: Context, act: Part) -> float:
-    name = act.param("size")
-    try:
-        return abs(ctx.value(name)) if name else 1e-3
-    except (KeyError, TypeError, ValueError):
-        return 1e-3

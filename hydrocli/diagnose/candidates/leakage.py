@@ -32,7 +32,7 @@ class CylinderFamily(Family):
             return [Skipped(e, "no actuator (cylinder, motor, vane) in the machine") for e in self.effects]
         for act in acts:
             a, b = act.node("chamber_a"), act.node("chamber_b")
-            k = _size(ctx, act) / REF_SIZE
+            k = ctx.size(act) / REF_SIZE
             out.append(self._internal(ctx, act, a, b, k))
             out.append(self._external(ctx, act, a, b, k))
             out.append(self._air(ctx, act, a, b))
@@ -160,7 +160,7 @@ def _air_volumes(ctx: Context, act: Part, nodes: list[str], description: str) ->
     typ, role = ctx.element(R.VOLUME, Domain.HYDRAULIC)
     names = [A.unique_name(ctx.net, f"{act.name}_air_{i + 1}") for i in range(len(nodes))]
     air = role.param("air")
-    size = _size(ctx, act)
+    size = ctx.size(act)
     v_nom = max(size * 0.5, 1e-6)          # half a radian (or metre) of displacement: a chamber's order
     # one fraction per chamber; the first sizes the effect, the others are companions
     params = [NewParam(f"{n}.{air}", 1e-4, (1e-5, 0.3), (1e-3, 0.3), 0.03, True, primary=(i == 0))
@@ -172,10 +172,3 @@ def _air_volumes(ctx: Context, act: Part, nodes: list[str], description: str) ->
         return A.free_new(net, params)
     return Candidate("entrained_air", act.name, params, build, "continuity", description, variant="volume")
 
-
-def _size(ctx: Context, act: Part) -> float:
-    name = act.param("size")
-    try:
-        return abs(ctx.value(name)) if name else 1e-3
-    except (KeyError, TypeError, ValueError):
-        return 1e-3
