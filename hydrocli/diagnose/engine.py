@@ -87,6 +87,7 @@ class Setup:
     outputs: list[str]
     noise: dict[str, float]          # validation noise floor, ESR %
     noise_sigma: dict[str, float]    # the same as a standard deviation (SI)
+    inputs_start: dict[str, float]   # each input's first sample (mean over training): once per diagnosis
 
     @property
     def noise_total(self) -> float:
@@ -102,6 +103,7 @@ class Baseline:
     located: dict
     whiteness: dict
     found: list[dict]            # effects the base fit found (source: base_fit)
+    n_eff: float                 # effective residual samples of the base fit
 
 
 @dataclass
@@ -193,7 +195,8 @@ def prepare(machine, train_paths, validate_paths, settings: Settings) -> Setup:
              for o in outputs}
     sigma = {o: float(np.sqrt(noise[o] / 100.0 * np.mean([np.nanvar(e.measured[o]) for e in validate
                                                             if o in e.measured]))) for o in outputs}
-    return Setup(str(machine), net, model, sensors, found, train, validate, outputs, noise, sigma)
+    return Setup(str(machine), net, model, sensors, found, train, validate, outputs, noise, sigma,
+                 _inputs_start(model, train))
 
 
 # -- step 2 -------------------------------------------------------------------------------
@@ -215,13 +218,13 @@ def baseline_step(su: Setup, st: Settings, progress=None) -> Baseline:
     for f in found:
         _log(progress, f"  the base fit found {f['effect']} on '{f['component']}' "
                        f"(validation gain {f['validation_gain']:.3g} % > {f['noise_band']:.3g} %)")
-    return Baseline(base, res0, judged, where, white, found)
+    return Baseline(base, res0, judged, where, white, found, n_eff)
 
 
 def _base_fit_findings(su: Setup, base: Stage, judged: list[dict]) -> list[dict]:
     """Effects whose parameter the file already has free from "off" and the fit moved."""
     ctx = Context(su.net, set(), _position_ranges(su.model, su.train, base.Y_train),
-                  locate.output_quantities(su.model), _inputs_start(su.model, su.train))
+                  locate.output_quantities(su.model), su.inputs_start)
     cands, _ = catalogue(ctx)
     offs = findings.off_values(cands)
     val = residuals.total(base.esr_validation)
@@ -241,7 +244,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                located: dict, progress=None) -> Round:
     train, validate, outputs = su.train, su.validate, su.outputs
     ctx = Context(stage.net, set(stage.free), _position_ranges(stage.model, train, stage.Y_train),
-                  locate.output_quantities(stage.model), _inputs_start(su.model, train))
+                  locate.output_quantities(stage.model), su.inputs_start)
     cands, skipped = catalogue(ctx)
     done = {a["key"] for a in accepted if "key" in a}
     found = {(a["effect"], a["component"]) for a in accepted}
@@ -301,12 +304,13 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         return out
     passing = _rank_passing(passing)
     dbic_best, c, f = passing[0]
+    close = ALTERNATIVE * min(p[0] for p in passing)   # ΔBIC that the training data barely tell from the best
     alternatives = [{"effect": c2.effect, "component": c2.component, "delta_bic": d2,
                      "esr_validation_after": f2["esr_validation"]}
-                    for d2, c2, f2 in passing[1:] if c2.effect != c.effect and d2 <= ALTERNATIVE * min(p[0] for p in passing)]
+                    for d2, c2, f2 in passing[1:] if c2.effect != c.effect and d2 <= close]
     band = accept.need(v_base, su.noise_total)
     rival = next(((d2, c2, f2) for d2, c2, f2 in passing[1:] if c2.effect != c.effect
-                  and d2 <= ALTERNATIVE * min(p[0] for p in passing)
+                  and d2 <= close
                   and abs(residuals.total(f2["esr_validation"]) - residuals.total(f["esr_validation"])) < band), None)
     if rival is not None:
         out.ambiguous = _ambiguous(su, (dbic_best, c, f), rival, texts, progress)
@@ -455,13 +459,12 @@ def conclude(su: Setup, b: Baseline, final: Stage, accepted: list[dict], ranking
     effects = list(dict.fromkeys(a["effect"] for a in accepted))
     mismatch = None if effects else findings.unexplained(final.esr_validation, su.noise, b.located)
     verdict = "missing_physics" if effects else ("unexplained_mismatch" if mismatch else "none")
-    n_eff = _n_eff(su.model, su.train, b.stage.Y_train, su.outputs)
     data = {
         "machine": su.machine, "train": [str(p) for p in train_paths], "validate": [str(p) for p in validate_paths],
         "verdict": verdict,
         "effects": effects or ["none"],
         "located": b.located,
-        "tests": {"whiteness": b.whiteness, "noise_esr_validation": su.noise, "n_eff": n_eff},
+        "tests": {"whiteness": b.whiteness, "noise_esr_validation": su.noise, "n_eff": b.n_eff},
         "esr_train_base": b.stage.esr_train, "esr_validation_base": b.stage.esr_validation,
         "esr_train_final": final.esr_train, "esr_validation_final": final.esr_validation,
         "base_parameters": b.judged,
