@@ -36,9 +36,11 @@ def _run(machine, train, validate, out, max_effects, jobs, top, no_pdf, schedule
     files = ("diagnosis.json", "augmented.yaml") + (() if no_pdf else ("report.pdf",))
     guard_output_dir(out, files, (machine, *train, *validate))   # before the long diagnosis
 
-    diag = diagnose(machine, train, validate, Settings(max_effects=max_effects, jobs=jobs, top=top,
-                                                         scheduler=scheduler, nuisance=not no_nuisance),
-                    progress=lambda m: typer.echo(m, err=True))
+    from ..progress import Heartbeat
+    with Heartbeat(lambda m: typer.echo(m, err=True)) as progress:   # a status line every 5 s
+        diag = diagnose(machine, train, validate, Settings(max_effects=max_effects, jobs=jobs, top=top,
+                                                             scheduler=scheduler, nuisance=not no_nuisance),
+                        progress=progress)
     guard_output_dir(out, files)            # every input is known now
     out.mkdir(parents=True, exist_ok=True)
     proposals = write_proposals(diag, out)

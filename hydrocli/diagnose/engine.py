@@ -31,6 +31,7 @@ from ..model.builder import build_model
 from ..model.model import Model
 from ..netlist.loader import load_netlist
 from ..netlist.model import Netlist
+from ..progress import status
 from . import accept, augment, baseline, design, findings, locate, nuisance, residuals, stats, workers
 from .candidates import Candidate, Context, catalogue
 from .equations import equation_errors, measured_states
@@ -128,6 +129,13 @@ class Diagnosis:
     proposed_experiments: list[str] = field(default_factory=list)   # YAML texts, one per ambiguity
 
 
+def _fit_status(progress, what: str):
+    """identify's progress callback (simulations run, cost) as a status line of ``progress``."""
+    if getattr(progress, "status", None) is None:
+        return None
+    return lambda n, cost, best: status(progress, f"{what}: {n} simulations, cost {best:.6g}")
+
+
 def _log(progress, msg):
     if progress:
         progress(msg)
@@ -204,7 +212,7 @@ def baseline_step(su: Setup, st: Settings, progress=None) -> Baseline:
     model, train, validate, outputs = su.model, su.train, su.validate, su.outputs
     _log(progress, f"re-identifying the base model ({len(model.free_params)} free parameters) on "
                    f"{len(train)} training experiment(s)…")
-    res0 = baseline.identify(model, train, iterations=st.base_evals)
+    res0 = baseline.identify(model, train, iterations=st.base_evals, progress=_fit_status(progress, "base fit"))
     base = _stage(augment.set_values(su.net, dict(zip(res0.names, res0.estimates))), model, res0.p, res0.cost,
                   res0.names, train, validate, outputs)
     n_eff = _n_eff(model, train, base.Y_train, outputs)
@@ -280,7 +288,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     fits = workers.run_all(workers.fit_one, controls + [dict(common, key=c.key, text=texts[c.key],
                                                              validate=validate, starts=scores[c.key].get("starts"),
                                                              max_evals=st.candidate_evals, n_eff=n_eff,
-                                                             gradient=grad[c.key]) for c in best], pool)
+                                                             gradient=grad[c.key]) for c in best], pool,
+                           progress=progress, what=f"round {round_ + 1}: candidate fits done")
     fits = {f["key"]: f for f in fits}
     base_ref = {}
     for g in set(grad.values()):
@@ -372,7 +381,8 @@ def _screen(stage: Stage, cands: list[Candidate], texts: dict, common: dict, n_e
         B = residuals.sensitivities(obj, stage.p, idx, steps, r)
     _log(progress, f"round {round_ + 1}: screening {len(cands)} candidate(s)…")
     scr = workers.run_all(workers.screen_one, [dict(common, key=c.key, text=texts[c.key], params=c.params,
-                                                    r=r, B=B, n_eff=n_eff) for c in cands], pool)
+                                                    r=r, B=B, n_eff=n_eff) for c in cands], pool,
+                          progress=progress, what=f"round {round_ + 1}: screened")
     return {s["key"]: s for s in scr}
 
 
@@ -442,7 +452,8 @@ def _polish(su: Setup, stage: Stage, c: Candidate, text: str, f: dict, n_eff: fl
     p_c = workers.warm_vector(model_c, f["param_names"], f["p"])
     free_c = list(model_c.free_params)
     _log(progress, f"  polishing the model with {c.effect} (all {len(free_c)} free parameters)…")
-    pol = baseline.identify(model_c, su.train, p_start=p_c, iterations=st.base_evals)
+    pol = baseline.identify(model_c, su.train, p_start=p_c, iterations=st.base_evals,
+                            progress=_fit_status(progress, f"polishing {c.effect}"))
     if pol.cost < f["cost"]:
         Yva = residuals.simulate_outputs(model_c, su.validate, pol.p)
         val = residuals.total(residuals.esr_table(model_c, su.validate, Yva, su.outputs))

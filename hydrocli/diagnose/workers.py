@@ -7,6 +7,7 @@ import numpy as np
 
 from ..model.builder import build_model
 from ..netlist.loader import load_netlist_text
+from ..progress import status
 from . import baseline, residuals, stats
 
 
@@ -107,11 +108,24 @@ def fit_one(job: dict) -> dict:
         return {"key": job["key"], "error": f"{type(exc).__name__}: {exc}"}
 
 
-def run_all(fn, jobs: list[dict], pool=None) -> list[dict]:
+def run_all(fn, jobs: list[dict], pool=None, progress=None, what: str = "done") -> list[dict]:
     """``fn`` over ``jobs`` on the diagnosis's executor (identify's: a process pool, or a Dask
-    client when a scheduler was named), in this process when there is none."""
-    if pool is None or len(jobs) <= 1:
-        return [fn(j) for j in jobs]
+    client when a scheduler was named), in this process when there is none; results in the
+    jobs' order, ``progress``'s status told "what k/n" as they complete."""
+    n = len(jobs)
+    status(progress, f"{what} 0/{n}")
+    if pool is None or n <= 1:
+        out = []
+        for k, j in enumerate(jobs, 1):
+            out.append(fn(j))
+            status(progress, f"{what} {k}/{n}")
+        return out
     if hasattr(pool, "gather"):          # dask.distributed.Client
-        return pool.gather(pool.map(fn, jobs, pure=False))
-    return list(pool.map(fn, jobs))
+        from distributed import as_completed as completed
+        futures = [pool.submit(fn, j, pure=False) for j in jobs]
+    else:
+        from concurrent.futures import as_completed as completed
+        futures = [pool.submit(fn, j) for j in jobs]
+    for k, _ in enumerate(completed(futures), 1):
+        status(progress, f"{what} {k}/{n}")
+    return [f.result() for f in futures]
