@@ -52,3 +52,22 @@ def test_diagnose_pools_recordings_that_measure_different_chambers(tmp_path, mon
     assert d.outputs == ["x", "pA", "pB"] and d.data["effects"] == ["end_stop"]
     before, after = d.data["esr_validation_base"], d.data["esr_validation_final"]
     assert after["pA"] < 0.2 * before["pA"] and after["pB"] < 0.2 * before["pB"]
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not DATA.is_dir(), reason="shared Festo recordings not available")
+def test_full_festo_machine_nothing_more_resolvable(tmp_path, monkeypatch):
+    """Issue 10 item 4: the rig's FULL machine (end stops and end cushions) on the repeat-1
+    step recordings, both pressures trained and held out (pA 1/3/5 V + pB 2/4 V against the
+    rest): the catalogue's best candidates stay within the held-out noise band, so the honest
+    answer is that nothing more is resolvable — and the base model already predicts the
+    held-out recordings closely (docs/festo.md: x < 0.25 %, p < 1 % ESR)."""
+    monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path / "cache"))
+    a, b = EXP / "steps_pA.yaml", EXP / "steps_pB.yaml"
+    train = [f"{a}#festo_pA_1V", f"{a}#festo_pA_3V", f"{a}#festo_pA_5V", f"{b}#festo_pB_2V", f"{b}#festo_pB_4V"]
+    validate = [f"{a}#festo_pA_2V", f"{a}#festo_pA_4V", f"{b}#festo_pB_1V", f"{b}#festo_pB_3V", f"{b}#festo_pB_5V"]
+    d = diagnose(ROOT / "machines" / "festo_tp511.yaml", train, validate, Settings(max_effects=1, jobs=2))
+    assert d.data["verdict"] == "none" and d.data["effects"] == []
+    esr = d.data["esr_validation_final"]
+    assert esr["x"] < 0.25 and esr["pA"] < 1.0 and esr["pB"] < 1.0
+    assert {"x", "pA", "pB"} <= set(esr)                        # both pressures judged, not just x
