@@ -9,9 +9,12 @@
 3. every new parameter is plausible (inside its plausibility range, not at a bound), and
    the primary ones — those that say how large the effect is — are well determined (inflated
    standard error < ``MAX_REL_SE`` of the effect's size). Companion parameters (a stop's
-   contact stiffness, a compliance's damping) shape the effect; the data often bound them
-   from one side only (any stop stiffer than needed fits alike), so they must be plausible
-   but need not be precise.
+   contact stiffness, a compliance's damping, an air law's exponent and dissolution pressure)
+   shape the effect; the data often bound them from one side only (any stop stiffer than
+   needed fits alike), so they must be plausible but need not be precise — and the primaries'
+   standard errors are taken GIVEN the companions (:func:`conditional_stderr`): how much air
+   there is is determined for a given law even when the amount trades off against the law's
+   shape (more air that dissolves sooner).
 """
 from __future__ import annotations
 
@@ -47,6 +50,23 @@ def need(val0: float, noise: float, later: bool = False, first_gain: float | Non
     return out
 
 
+def conditional_stderr(names: list[str], stderr, correlation, given: set[str]) -> dict[str, float]:
+    """Standard errors with the ``given`` parameters held at their estimates: the conditional
+    covariance C₁₁ − C₁₂ C₂₂⁻¹ C₂₁ of the estimates' Gaussian approximation (C = D·R·D from the
+    standard errors D and correlations R), i.e. the inverse of the information about the others
+    alone. Without ``given`` (or a correlation matrix) the marginal standard errors."""
+    se = np.asarray(stderr, float)
+    keep = [i for i, n in enumerate(names) if n not in given]
+    cond = [i for i, n in enumerate(names) if n in given]
+    if not cond or correlation is None or not np.all(np.isfinite(se)):
+        return dict(zip(names, se.tolist()))
+    C = np.asarray(correlation, float) * np.outer(se, se)
+    C11 = C[np.ix_(keep, keep)] - C[np.ix_(keep, cond)] @ np.linalg.pinv(C[np.ix_(cond, cond)]) @ C[np.ix_(cond, keep)]
+    out = dict(zip(names, se.tolist()))
+    out.update({names[i]: float(np.sqrt(max(C11[k, k], 0.0))) for k, i in enumerate(keep)})
+    return out
+
+
 def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: float, noise: float,
           later: bool = False, first_gain: float | None = None) -> dict:
     k = len(cand.params)
@@ -59,7 +79,8 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
     if not gain > need_:
         reasons.append(f"validation ESR gain {gain:.3g} % is within the noise band ({need_:.3g} %)")
     est = dict(zip(fitres["names"], fitres["estimates"]))
-    se = dict(zip(fitres["names"], fitres["stderr"]))
+    se = conditional_stderr(fitres["names"], fitres["stderr"], fitres.get("correlation"),
+                            {p.name for p in cand.params if not p.primary})
     plausible_any = False
     for p in cand.params:
         v, s = est[p.name], se[p.name]

@@ -32,7 +32,7 @@ from ..model.model import Model
 from ..netlist.loader import load_netlist
 from ..netlist.model import Netlist
 from ..progress import status
-from . import accept, augment, baseline, design, findings, locate, nuisance, residuals, stats, workers
+from . import accept, augment, baseline, design, findings, locate, nuisance, residuals, restrain, stats, workers
 from .candidates import Candidate, Context, catalogue
 from .equations import equation_errors, measured_states
 from .measurement import sensed_states, with_pressure_sensors
@@ -105,6 +105,8 @@ class Baseline:
     whiteness: dict
     found: list[dict]            # effects the base fit found (source: base_fit)
     n_eff: float                 # effective residual samples of the base fit
+    restrained: Stage | None = None   # the base re-fitted with implausible values restrained (:mod:`.restrain`)
+    restraints: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -226,14 +228,44 @@ def baseline_step(su: Setup, st: Settings, progress=None) -> Baseline:
     for f in found:
         _log(progress, f"  the base fit found {f['effect']} on '{f['component']}' "
                        f"(validation gain {f['validation_gain']:.3g} % > {f['noise_band']:.3g} %)")
-    return Baseline(base, res0, judged, where, white, found, n_eff)
+    lim = restrain.limits(_context(su, base), dict(zip(res0.names, res0.estimates)),
+                          _bounds(model, res0.names))
+    restrained = _restrained(su, base, lim, st, progress) if lim else None
+    return Baseline(base, res0, judged, where, white, found, n_eff, restrained, lim)
+
+
+def _bounds(model, names) -> dict:
+    from ..identify.transforms import FreeParameters
+    fp = FreeParameters.from_model(model, names)
+    return {n: (float(lo), float(hi)) for n, lo, hi in zip(names, fp.lo, fp.hi)}
+
+
+def _context(su: Setup, stage: Stage) -> Context:
+    return Context(stage.net, set(stage.free), _position_ranges(stage.model, su.train, stage.Y_train),
+                   locate.output_quantities(stage.model), su.inputs_start)
+
+
+def _restrained(su: Setup, base: Stage, lim: dict, st: Settings, progress) -> Stage:
+    """The base re-identified with every implausible bulk modulus restrained to oil's range."""
+    net = restrain.apply(base.net, lim)
+    model = build_model(net)
+    p0 = workers.warm_vector(model, base.model.param_names, base.p)
+    for n, (lo, _) in lim.items():
+        p0[model.param_index(n)] = lo
+    _log(progress, "the base fit's " + ", ".join(f"{n} {base.p[base.model.param_index(n)] / 1e9:.2f} GPa" for n in lim)
+         + f" is not oil's (< {restrain.OIL_MIN / 1e9:.1f} GPa): re-identifying with it restrained, to test "
+           "which compliance it stands for…")
+    res = baseline.identify(model, su.train, p_start=p0, iterations=st.base_evals,
+                            progress=_fit_status(progress, "restrained base fit"))
+    stage = _stage(augment.set_values(net, dict(zip(res.names, res.estimates))), model, res.p, res.cost, res.names,
+                   su.train, su.validate, su.outputs)
+    _log(progress, f"restrained base: train ESR {_fmt(stage.esr_train)}; validation ESR {_fmt(stage.esr_validation)}")
+    return stage
 
 
 def _base_fit_findings(su: Setup, base: Stage, judged: list[dict]) -> list[dict]:
     """Effects whose parameter the file already has free from "off" and the fit moved."""
-    ctx = Context(su.net, set(), _position_ranges(su.model, su.train, base.Y_train),
-                  locate.output_quantities(su.model), su.inputs_start)
-    cands, _ = catalogue(ctx)
+    cands, _ = catalogue(replace(_context(su, base), net=su.net, free=set()))
     offs = findings.off_values(cands)
     val = residuals.total(base.esr_validation)
 
@@ -249,11 +281,11 @@ def _base_fit_findings(su: Setup, base: Stage, judged: list[dict]) -> list[dict]
 
 # -- step 3 -------------------------------------------------------------------------------
 def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: Settings, pool,
-               located: dict, progress=None) -> Round:
+               located: dict, progress=None, floor: Stage | None = None) -> Round:
+    """One round from ``stage``. ``floor``: a model every candidate must beat as well — the
+    free base when ``stage`` is the restrained one (:mod:`.restrain`)."""
     train, validate, outputs = su.train, su.validate, su.outputs
-    ctx = Context(stage.net, set(stage.free), _position_ranges(stage.model, train, stage.Y_train),
-                  locate.output_quantities(stage.model), su.inputs_start)
-    cands, skipped = catalogue(ctx)
+    cands, skipped = catalogue(_context(su, stage))
     done = {a["key"] for a in accepted if "key" in a}
     found = {(a["effect"], a["component"]) for a in accepted}
     # an effect already accepted is not offered again, except in its OTHER forms on the same
@@ -295,10 +327,14 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     for g in set(grad.values()):
         ctl = fits.pop(f"{CONTROL} ({g})")
         ssr, val = stage.cost, residuals.total(stage.esr_validation)
+        if floor is not None:
+            ssr, val = min(ssr, floor.cost), min(val, residuals.total(floor.esr_validation))
         if ctl.get("error") is None and ctl["cost"] < ssr:
             ssr, val = ctl["cost"], min(val, residuals.total(ctl["esr_validation"]))
         base_ref[g] = (ssr, val)
     v_base = min([v for _, v in base_ref.values()] + [residuals.total(stage.esr_validation)])
+    before = floor if floor is not None and residuals.total(floor.esr_validation) < residuals.total(
+        stage.esr_validation) else stage
     passing = []
     for c in order:
         ssr0, val0 = base_ref.get(grad.get(c.key), (stage.cost, v_base))
@@ -327,11 +363,11 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     row = next(rw for rw in out.rows if rw["effect"] == c.effect and rw["component"] == c.component)
     out.accepted = {"key": c.key, "effect": c.effect, "component": c.component, "source": "candidate",
                     "description": c.description, "parameters": _new_params(c, f),
-                    "delta_bic": row["delta_bic"], "esr_train_before": stage.esr_train,
-                    "esr_train_after": new.esr_train, "esr_validation_before": stage.esr_validation,
+                    "delta_bic": row["delta_bic"], "esr_train_before": before.esr_train,
+                    "esr_train_after": new.esr_train, "esr_validation_before": before.esr_validation,
                     "esr_validation_after": new.esr_validation, "alternatives": alternatives}
     out.stage = new
-    _log(progress, f"  accepted {c.effect} on '{c.component}': validation ESR {_fmt(stage.esr_validation)} "
+    _log(progress, f"  accepted {c.effect} on '{c.component}': validation ESR {_fmt(before.esr_validation)} "
                    f"→ {_fmt(new.esr_validation)}")
     return out
 
@@ -487,6 +523,13 @@ def conclude(su: Setup, b: Baseline, final: Stage, accepted: list[dict], ranking
     }
     if mismatch:
         data["unexplained"] = mismatch
+    if b.restrained is not None:
+        rs = b.restrained
+        data["restrained_base"] = {
+            "why": "bulk modulus below oil's: tested which compliance it stands for",
+            "parameters": [{"name": n, "bounds": list(lim), "free_fit": float(b.stage.p[b.stage.model.param_index(n)]),
+                            "restrained_fit": float(rs.p[rs.model.param_index(n)])} for n, lim in b.restraints.items()],
+            "esr_train": rs.esr_train, "esr_validation": rs.esr_validation}
     return data
 
 
@@ -499,10 +542,21 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
     parallel = st.jobs > 1 or st.scheduler
     with (executor(st.jobs, st.scheduler) if parallel else nullcontext(None)) as pool:
         for round_ in range(st.max_effects):
-            rnd = round_step(su, stage, accepted, round_, st, pool, b.located, progress)
+            rnd = None
+            if round_ == 0 and b.restrained is not None:
+                # which compliance does the implausible bulk modulus stand for? Tried first;
+                # when none beats the free base, the round runs from the free base as usual
+                rnd = round_step(su, b.restrained, accepted, round_, st, pool, b.located, progress, floor=stage)
+                ranking.extend(rnd.rows)
+                if rnd.accepted is None:
+                    _log(progress, "  nothing beats the free base with the bulk modulus restrained: "
+                                   "screening from the free base")
+                    rnd = None
+            if rnd is None:
+                rnd = round_step(su, stage, accepted, round_, st, pool, b.located, progress)
+                ranking.extend(rnd.rows)
             if round_ == 0:
                 skipped = rnd.skipped
-            ranking.extend(rnd.rows)
             if rnd.ambiguous:
                 ambiguous.append(rnd.ambiguous)
             if rnd.accepted is None:

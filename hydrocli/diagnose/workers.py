@@ -101,6 +101,7 @@ def fit_one(job: dict) -> dict:
         Yva = residuals.simulate_outputs(model, job["validate"], res.p)
         return {"key": job["key"], "error": None, "names": res.names, "estimates": res.estimates.tolist(),
                 "stderr": baseline.inflated_stderr(res, job["n_eff"]).tolist(), "cost": res.cost,
+                "correlation": None if res.correlation is None else np.asarray(res.correlation).tolist(),
                 "p": res.p, "param_names": model.param_names, "seconds": res.seconds,
                 "esr_train": residuals.esr_table(model, job["train"], Ytr, job["outputs"]),
                 "esr_validation": residuals.esr_table(model, job["validate"], Yva, job["outputs"])}

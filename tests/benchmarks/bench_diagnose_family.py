@@ -39,6 +39,8 @@ BUCKETS = (("<1%", 0.0, 1.0), (">=1%", 1.0, float("inf")))
 def find_cases(data: Path, split: str, machines, effects, limit):
     out = []
     for side in sorted(data.glob("*/*/train.json")):
+        if side.parent.name.startswith("."):      # a case the generator is still writing
+            continue
         d = json.loads(side.read_text())
         if split != "all" and d.get("split") != split:
             continue

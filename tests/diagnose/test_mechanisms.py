@@ -211,3 +211,36 @@ def test_near_ties_on_training_bic_are_decided_by_held_out_data():
     far = (-3000.0, SimpleNamespace(effect="valve_overlap"), {"esr_validation": {"P1": 0.10, "v": 0.10}})
     ranked = _rank_passing([seal, far, coul])
     assert [r[1].effect for r in ranked] == ["coulomb_friction", "pressure_dependent_friction", "valve_overlap"]
+
+
+def test_primaries_are_judged_given_the_companions_that_shape_the_effect():
+    """Two estimates that trade off (ρ = 0.995): the amount is determined once the shape is
+    given, σ_a|b = σ_a·√(1 − ρ²) — the conditional covariance of a Gaussian, checked against
+    inverting the information matrix's sub-block."""
+    import numpy as np
+    from hydrocli.diagnose.accept import conditional_stderr
+    se, rho = np.array([0.4, 3.0, 0.02]), np.array([[1, 0.995, 0.3], [0.995, 1, 0.2], [0.3, 0.2, 1]])
+    cond = conditional_stderr(["air", "n", "m"], se, rho, {"n"})
+    info = np.linalg.inv(rho * np.outer(se, se))
+    ref = np.sqrt(np.diag(np.linalg.inv(info[np.ix_([0, 2], [0, 2])])))
+    assert cond["air"] == pytest.approx(ref[0]) and cond["m"] == pytest.approx(ref[1])
+    assert cond["air"] < 0.2 * se[0] and cond["n"] == se[1]
+    assert conditional_stderr(["air", "n"], se[:2], None, {"n"}) == {"air": 0.4, "n": 3.0}   # no correlation: marginal
+
+
+def test_actuator_bulk_modulus_below_oil_is_restrained_and_hoses_are_not(tmp_path):
+    """The chambers' bulk modulus is found by role and restrained to oil's range only where
+    the base fit left it below; a hose volume's low effective modulus is left alone."""
+    from hydrocli.diagnose import restrain
+    net = load_netlist(ROOT / "machines" / "eha_testbench.yaml")
+    ctx = Context(net, set(), {}, {}, {})
+    bounds = {"cylinder.beta": (0.3e9, 2.5e9), "hose.beta": (0.1e9, 1.5e9)}
+    assert restrain.limits(ctx, {"cylinder.beta": 1.4e9}, bounds) == {}
+    lim = restrain.limits(ctx, {"cylinder.beta": 0.63e9, "hose.beta": 0.2e9}, bounds)
+    assert lim == {"cylinder.beta": (restrain.OIL_MIN, 2.5e9)}
+    out = restrain.apply(net, lim)
+    from hydrocli.model.builder import build_model
+    m = build_model(out)
+    info = m.params[m.param_index("cylinder.beta")]
+    assert info.bounds == (restrain.OIL_MIN, 2.5e9) and info.value == restrain.OIL_MIN
+    assert "cylinder.beta" in m.free_params

@@ -18,7 +18,7 @@ class HydraulicMotor(Component):
     separate ``gearbox`` component."""
 
     type = "hydraulic_motor"
-    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_m", displacements=("D_m",)),)
+    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_m", displacements=("D_m",), bulk_modulus="beta"),)
     family = "hydraulic"
     description = "Fixed-displacement hydraulic motor with internal and external leakage"
     source = "seed 002 Fig. 3, eqs. 5, 8, 9"
@@ -69,7 +69,7 @@ class VaneActuator(Component):
     capacitances (V_c + V_p ± D_v·θ)/β (eqs. 9–10)."""
 
     type = "vane_actuator"
-    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_v", displacements=("D_v",), internal_leakage="R_v"),)
+    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_v", displacements=("D_v",), bulk_modulus="beta", internal_leakage="R_v"),)
     family = "hydraulic"
     description = "Rotary vane actuator with cross-port leakage and chamber compressibility"
     source = "seed 001 eqs. 9–10, 12–13, 20"
