@@ -40,3 +40,29 @@ def test_henry_dissolution_is_linear_down_to_the_dissolution_pressure():
     assert _value(BETA, p, 0.05, 1.0, p_d) == pytest.approx(_mixture(0.05, p, 1.0, d), rel=1e-5)
     # above the dissolution pressure no free air is left: the oil's modulus (to the smoothing)
     assert _value(BETA, 200e5, 0.05, 1.0, p_d) == pytest.approx(BETA, rel=1e-4)
+
+
+def test_vane_actuator_chambers_hold_air_like_a_cylinders():
+    """A vane actuator's chamber with entrained air: at rest, a flow q into chamber 1 raises
+    its pressure at dp/dt = q·β_e(p)/(V_1 + D_v·θ) with β_e the mixture's closed form."""
+    import numpy as np
+    from hydrocli.model.builder import build_model
+    from hydrocli.netlist.loader import load_netlist_text
+    text = """
+name: vane_air
+fluid: {beta: "1.5 GPa", p_tank: "1 bar"}
+components:
+  pump: {type: flow_source, ports: {P: c1}, Q: 1.0e-5}
+  vane: {type: vane_actuator, ports: {A: c1, B: c2, shaft: arm, body: ground}, D_v: 5.0e-6, V_1: 2.0e-5,
+         V_2: 2.0e-5, R_v: 0.0, air: 0.1, air_n: 1.0}
+  arm_inertia: {type: inertia, ports: {r: arm}, J: 0.05}
+outputs: {p1: c1.p}
+initial: {c1.p: "50 bar", c2.p: "50 bar", arm.theta: 0.2}
+"""
+    m = build_model(load_netlist_text(text, "vane_air.yaml"))
+    x0 = np.array([{"c1.p": 50e5, "c2.p": 50e5, "arm.theta": 0.2}.get(s, 0.0) for s in m.state_names])
+    dx, *_ = m.numpy_evaluate()(0.0, list(x0), m.p0, [])
+    dp1 = float(np.asarray(dx[m.state_index("c1.p")]))
+    beta_e = _mixture(0.1, 50e5, 1.0)
+    assert dp1 == pytest.approx(1e-5 * beta_e / (2e-5 + 5e-6 * 0.2), rel=1e-6)
+    assert beta_e < 0.7 * BETA      # the air matters at 50 bar

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from ..base import Component, H, Param, Port, R, VariableSpec
 from ..registry import register
-from .fluid import effective_bulk_modulus
+from .fluid import AIR_PARAMS, cavitation_floor, effective_bulk_modulus, oil_bulk_modulus
 from .. import roles as RL
 from ..roles import role
 
@@ -66,10 +66,11 @@ class HydraulicMotor(Component):
 class VaneActuator(Component):
     """Rotary vane actuator (seed 001 eqs. 9–10, 12–13): torque D_v·(p_1 − p_2) (eq. 12), flow
     D_v·ω (eq. 13), cross-vane leakage R_v·(p_1 − p_2) (eq. 20; R_v is a conductance), chamber
-    capacitances (V_c + V_p ± D_v·θ)/β (eqs. 9–10)."""
+    capacitances (V_c + V_p ± D_v·θ)/β (eqs. 9–10), β with entrained air when ``air`` is set
+    (``fluid.effective_bulk_modulus``)."""
 
     type = "vane_actuator"
-    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_v", displacements=("D_v",), bulk_modulus="beta", internal_leakage="R_v"),)
+    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_v", displacements=("D_v",), bulk_modulus="beta", internal_leakage="R_v", air="air", air_exponent="air_n", air_dissolve="p_dissolve"),)
     family = "hydraulic"
     description = "Rotary vane actuator with cross-port leakage and chamber compressibility"
     source = "seed 001 eqs. 9–10, 12–13, 20"
@@ -84,6 +85,7 @@ class VaneActuator(Component):
               bounds=(1e-7, 1e-2)),
         Param("V_2", "m^3", 2e-5, "chamber 2 + port line volume at θ = 0", positive=True, bounds=(1e-7, 1e-2)),
         Param("beta", "Pa", 1.5e9, "oil bulk modulus", fluid="beta", positive=True, bounds=(1e8, 2.5e9)),
+        *AIR_PARAMS,
     )
     variables = (VariableSpec("theta", "rad", "vane angle"), VariableSpec("w", "rad/s", "vane speed"),
                  VariableSpec("tau", "N*m", "hydraulic torque"), VariableSpec("q_leak", "m^3/s", "leakage 1→2"))
@@ -96,8 +98,10 @@ class VaneActuator(Component):
         v1, v2 = p.V_1 + p.D_v * th, p.V_2 - p.D_v * th
         c.guard(v1 <= 0.0, "chamber 1 volume reached zero: check V_1 and the vane travel")
         c.guard(v2 <= 0.0, "chamber 2 volume reached zero: check V_2 and the vane travel")
-        c.capacitance("A", v1 / p.beta)
-        c.capacitance("B", v2 / p.beta)
+        for port, vol, pr in (("A", v1, pa), ("B", v2, pb)):
+            cap = vol / oil_bulk_modulus(c, pr)      # with entrained air when 'air' is set (fluid.py)
+            c.capacitance(port, cap)
+            cavitation_floor(c, port, cap)
         q_l = c.let("q_leak", (p.R_v if c.active("R_v") else 0.0) * (pa - pb))
         c.through("A", p.D_v * w + q_l)
         c.through("B", -p.D_v * w - q_l)
