@@ -58,9 +58,10 @@ def conditional_stderr(names: list[str], stderr, correlation, given: set[str]) -
     se = np.asarray(stderr, float)
     keep = [i for i, n in enumerate(names) if n not in given]
     cond = [i for i, n in enumerate(names) if n in given]
-    if not cond or correlation is None or not np.all(np.isfinite(se)):
+    R_ = None if correlation is None else np.asarray(correlation, float)
+    if not cond or R_ is None or not (np.all(np.isfinite(se)) and np.all(np.isfinite(R_))) or np.max(se) > 1e150:
         return dict(zip(names, se.tolist()))
-    C = np.asarray(correlation, float) * np.outer(se, se)
+    C = R_ * np.outer(se, se)
     C11 = C[np.ix_(keep, keep)] - C[np.ix_(keep, cond)] @ np.linalg.pinv(C[np.ix_(cond, cond)]) @ C[np.ix_(cond, keep)]
     out = dict(zip(names, se.tolist()))
     out.update({names[i]: float(np.sqrt(max(C11[k, k], 0.0))) for k, i in enumerate(keep)})

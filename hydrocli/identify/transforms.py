@@ -71,8 +71,8 @@ class FreeParameters:
     def dp_dz(self, z: np.ndarray) -> np.ndarray:
         """Derivative of p with respect to z (for standard errors)."""
         v = self.from_z(z)
-        d = np.where(self.log, v * np.log(self.hi / np.where(self.log, self.lo, 1.0)), self.hi - self.lo)
-        return d
+        ratio = np.where(self.log, self.hi / np.where(self.log, self.lo, 1.0), 1.0)   # log-scaled only
+        return np.where(self.log, v * np.log(ratio), self.hi - self.lo)
 
     def full_vector(self, base: np.ndarray, values: np.ndarray) -> np.ndarray:
         p = np.array(base, dtype=float, copy=True)

@@ -189,12 +189,20 @@ def main(argv=None) -> int:
     ap.add_argument("--machines", nargs="+", default=None)
     ap.add_argument("--effects", nargs="+", default=None)
     ap.add_argument("--limit", type=int, default=None)
+    ap.add_argument("--cases", nargs="+", default=None, help="only cases whose name contains one of these")
+    ap.add_argument("--skip", type=Path, nargs="+", default=None, help="skip the cases of these results JSONs")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--json", type=Path, default=None, help="results JSON (default DATA/bench_<split>.json)")
     ap.add_argument("--per-case", action="store_true", help="held-out: print and store per-case rows too")
     a = ap.parse_args(argv)
     blind = a.split == "heldout" and not a.per_case
-    cases = find_cases(a.data, a.split, a.machines, a.effects, a.limit)
+    cases = find_cases(a.data, a.split, a.machines, a.effects, None)
+    if a.cases:
+        cases = [c for c in cases if any(k in c.name for k in a.cases)]
+    if a.skip:
+        done = {r["case"] for f in a.skip if f.exists() for r in json.loads(f.read_text()).get("cases", [])}
+        cases = [c for c in cases if c.name not in done]
+    cases = cases[:a.limit] if a.limit else cases
     if not cases:
         print(f"no {a.split} cases under {a.data}", file=sys.stderr)
         return 2
