@@ -162,11 +162,6 @@ def _stage(net, model, p, cost, free, train, validate, outputs) -> Stage:
                  residuals.esr_table(model, validate, Yva, outputs), Ytr, Yva)
 
 
-def _n_eff(model, exps, Ys, outputs) -> float:
-    return float(sum(stats.effective_n(np.nan_to_num(r)) for r in
-                     residuals.residual_series(model, exps, Ys, outputs).values()))
-
-
 def _inputs_start(model, exps) -> dict:
     """Each machine input's value at the start, averaged over the training experiments."""
     return {n: float(np.mean([e.inputs.U[0, j] for e in exps])) for j, n in enumerate(model.input_names)}
@@ -217,7 +212,7 @@ def baseline_step(su: Setup, st: Settings, progress=None) -> Baseline:
     res0 = baseline.identify(model, train, iterations=st.base_evals, progress=_fit_status(progress, "base fit"))
     base = _stage(augment.set_values(su.net, dict(zip(res0.names, res0.estimates))), model, res0.p, res0.cost,
                   res0.names, train, validate, outputs)
-    n_eff = _n_eff(model, train, base.Y_train, outputs)
+    n_eff = residuals.effective_n(model, train, base.Y_train, outputs)
     judged = baseline.judge(model, res0, n_eff)
     _log(progress, f"base model: train ESR {_fmt(base.esr_train)}; validation ESR {_fmt(base.esr_validation)}")
     where = locate.locate(model, train, base.Y_train, outputs, st.window_s)
@@ -306,7 +301,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         return out
     common = {"file": su.machine, "names": stage.model.param_names, "values": stage.p, "train": train,
               "outputs": outputs}
-    n_eff = _n_eff(stage.model, train, stage.Y_train, outputs)
+    n_eff = residuals.effective_n(stage.model, train, stage.Y_train, outputs)
     scores = _screen(stage, cands, texts, common, n_eff, pool, round_, progress)
     order = sorted(cands, key=lambda c: -scores[c.key]["dr2"])
     n_fit = st.top if round_ == 0 else max(1, st.top - 1)   # later rounds: residual already small

@@ -12,7 +12,7 @@ from ..errors import HydroError
 from ..experiments.experiment import Experiment
 from ..experiments.initial import initial_state
 from ..identify.cost import Objective, make_targets
-from ..metrics import esr
+from ..metrics import effective_samples, esr
 from ..model.model import Model
 from ..solve.simulate import SolverOptions, simulate
 
@@ -82,6 +82,11 @@ def residual_series(model: Model, exps: list[Experiment], Ys: list[np.ndarray], 
             if o in e.measured:
                 out[(i, o)] = np.where(used(e, o), Y[:, model.output_names.index(o)] - e.measured[o], 0.0)
     return out
+
+
+def effective_n(model: Model, exps: list[Experiment], Ys: list[np.ndarray], outputs: list[str]) -> float:
+    """Independent samples in a model's residual series: Σ n(1 − ρ₁)/(1 + ρ₁) (AR(1))."""
+    return float(sum(effective_samples(np.nan_to_num(r)) for r in residual_series(model, exps, Ys, outputs).values()))
 
 
 def sensitivities(obj: Objective, p: np.ndarray, index: list[int], steps: list[float],

@@ -99,8 +99,13 @@ def fit_one(job: dict) -> dict:
                                 gradient=job.get("gradient", "auto"))
         Ytr = residuals.simulate_outputs(model, job["train"], res.p)
         Yva = residuals.simulate_outputs(model, job["validate"], res.p)
+        # standard errors inflated by THIS fit's residual autocorrelation: a candidate that
+        # takes up the structured misfit leaves whiter residuals, and more independent samples,
+        # than the model it starts from (ΔBIC keeps the current model's n_eff, so candidates
+        # are ranked alike)
+        n_own = residuals.effective_n(model, job["train"], Ytr, job["outputs"])
         return {"key": job["key"], "error": None, "names": res.names, "estimates": res.estimates.tolist(),
-                "stderr": baseline.inflated_stderr(res, job["n_eff"]).tolist(), "cost": res.cost,
+                "stderr": baseline.inflated_stderr(res, n_own).tolist(), "cost": res.cost, "n_eff": n_own,
                 "correlation": None if res.correlation is None else np.asarray(res.correlation).tolist(),
                 "p": res.p, "param_names": model.param_names, "seconds": res.seconds,
                 "esr_train": residuals.esr_table(model, job["train"], Ytr, job["outputs"]),
