@@ -23,14 +23,23 @@ def register(app: typer.Typer) -> None:
                                       "the candidate fits; default: a local process pool of --jobs workers"),
         no_nuisance: bool = typer.Option(False, "--no-nuisance", help="keep the valves' spool dynamics fixed in "
                                          "the base fit"),
+        only: list[str] = typer.Option(None, "--only", help="try only this effect (repeatable): e.g. the two a "
+                                       "proposed experiment is to decide between"),
     ) -> None:
         """Locate the model/recording mismatch, name the missing physics, add it, show the fit improve."""
         from .main import run_guarded
-        run_guarded(_run, machine, train, validate, out, max_effects, jobs, top, no_pdf, scheduler, no_nuisance)
+        run_guarded(_run, machine, train, validate, out, max_effects, jobs, top, no_pdf, scheduler, no_nuisance, only)
 
 
-def _run(machine, train, validate, out, max_effects, jobs, top, no_pdf, scheduler=None, no_nuisance=False) -> None:
+def _run(machine, train, validate, out, max_effects, jobs, top, no_pdf, scheduler=None, no_nuisance=False,
+         only=None) -> None:
     from ..diagnose import Settings, diagnose
+    from ..diagnose.candidates.base import VOCABULARY
+    from ..errors import UsageError
+    from ..suggest import suggest
+    for e in only or ():
+        if e not in VOCABULARY:
+            raise UsageError(f"--only {e}: not an effect of the diagnosis vocabulary" + suggest(e, VOCABULARY))
     from ..diagnose.summary import console_summary, write_augmented, write_json, write_proposals
     from ..fileio import atomic_path, guard_output_dir
     files = ("diagnosis.json", "augmented.yaml") + (() if no_pdf else ("report.pdf",))
@@ -39,7 +48,8 @@ def _run(machine, train, validate, out, max_effects, jobs, top, no_pdf, schedule
     from ..progress import Heartbeat
     with Heartbeat(lambda m: typer.echo(m, err=True)) as progress:   # a status line every 5 s
         diag = diagnose(machine, train, validate, Settings(max_effects=max_effects, jobs=jobs, top=top,
-                                                             scheduler=scheduler, nuisance=not no_nuisance),
+                                                             scheduler=scheduler, nuisance=not no_nuisance,
+                                                             only=tuple(only or ())),
                         progress=progress)
     guard_output_dir(out, files)            # every input is known now
     out.mkdir(parents=True, exist_ok=True)

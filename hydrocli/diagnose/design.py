@@ -110,11 +110,13 @@ def designs(model, net, train) -> list[Design]:
     return out
 
 
-def experiment_text(d: Design, machine_name: str) -> str:
+def experiment_text(d: Design, machine_name: str, effects: tuple[str, ...] = ()) -> str:
+    decide = "".join(f" --only {e}" for e in effects)
     doc = {"name": f"discriminate_{d.name}",
            "description": f"proposed by hydro diagnose for {machine_name}: {d.description}. Record the machine's "
                           "outputs on it, add a 'data:' file and 'outputs:' mapping, and diagnose again with it "
-                          "among the training experiments.",
+                          "among the training experiments" + (f" ({decide.strip()} to decide between them)" if decide
+                                                              else "") + ".",
            "duration": f"{DURATION:g} s", "rate": f"{RATE:g} Hz", "inputs": d.inputs}
     return Y.dump_text(doc)
 
@@ -139,7 +141,7 @@ def propose(a, b, net, train, noise_sigma: dict[str, float], workdir: Path, mach
     workdir.mkdir(parents=True, exist_ok=True)
     for d in designs(ma, net, train):
         path = workdir / f"design_{d.name}.yaml"
-        text = experiment_text(d, machine_name)
+        text = experiment_text(d, machine_name, (a[0], b[0]))
         path.write_text(text)
         try:
             ea, eb = load_experiment_file(path, ma), load_experiment_file(path, mb)
