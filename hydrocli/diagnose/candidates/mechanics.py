@@ -110,10 +110,18 @@ class MechanicsFamily(Family):
             net = A.add(net, sp, stype, {srole.port("a"): frame, srole.port("b"): "ground"})
             net = A.add(net, dm, dtype, {drole.port("a"): frame, drole.port("b"): "ground"},
                         {drole.param("damping"): 0.1 * 2 * (1e9 * s * 2 * m) ** 0.5})
+            # the actuator's own transducer (a cylinder's stroke sensor, a vane's angle encoder)
+            # measures the motion RELATIVE to the body: x = x_rod − x_frame. So a mount keeps the
+            # chambers' continuity with the measured stroke intact and acts in the force balance
+            # only — it cannot stand in for air or a hose, which break that continuity
+            mapping = {f"{rod}.{q}": f"({rod}.{q} - {frame}.{q})" for q in (dom.across, dom.position) if q}
+            net = A.rewrite_outputs(net, mapping)
             return A.free(net, k, 1e9 * s, (1e5 * s, 1e10 * s), True)
+        rod = act.node("motion")
         return Candidate("structural_flexibility", act.name,
                          [NewParam(k, 1e9 * s, (1e5 * s, 1e10 * s), (1e5 * s, 5e8 * s), 1e7 * s, True)],
-                         build, "force", f"compliant mounting of the body of '{act.name}'")
+                         build, "force", f"compliant mounting of the body of '{act.name}' (motion measured by "
+                                         "the actuator's own transducer, relative to the body)")
 
 
 def _inertia(ctx: Context, load: Part) -> float:
