@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize
 
+from ..blas import single_threaded
 from ..errors import IdentifyError, Problem
 from ..experiments.experiment import Experiment
 from ..metrics import effective_samples
@@ -105,16 +106,22 @@ class _Tracker:
             self.progress(self.n_sims, cost, self.best_cost)
 
 
-def fit(model: Model, experiments: list[Experiment], free: list[str] | None = None, *,
-        method: str = "least-squares", cost: str = "esr", outputs: list[str] | None = None,
-        weights: dict[str, float] | None = None, bounds: dict[str, tuple[float, float]] | None = None,
-        p_start: np.ndarray | None = None, max_evals: int = 400, opts: SolverOptions | None = None,
-        progress=None, seed: int = 0, workers: int = 1, gradient: str = "auto", assess: bool = False) -> FitResult:
+def fit(model: Model, experiments: list[Experiment], free: list[str] | None = None, **kw) -> FitResult:
     """``workers`` > 1 evaluates finite-difference Jacobian columns in that many threads
     (the compiled solver releases the GIL); the result does not depend on it. ``gradient``:
     ``auto`` uses sensitivities when the model has an analytic Jacobian. ``assess`` adds
     bootstrap intervals, the identifiability report and the effect of the fixed parameters
-    (:mod:`.uncertainty`; one more sensitivity simulation)."""
+    (:mod:`.uncertainty`; one more sensitivity simulation). The linear algebra runs on one
+    BLAS thread (:mod:`hydrocli.blas`: its matrices are tall and thin)."""
+    with single_threaded():
+        return _fit(model, experiments, free, **kw)
+
+
+def _fit(model: Model, experiments: list[Experiment], free: list[str] | None = None, *,
+         method: str = "least-squares", cost: str = "esr", outputs: list[str] | None = None,
+         weights: dict[str, float] | None = None, bounds: dict[str, tuple[float, float]] | None = None,
+         p_start: np.ndarray | None = None, max_evals: int = 400, opts: SolverOptions | None = None,
+         progress=None, seed: int = 0, workers: int = 1, gradient: str = "auto", assess: bool = False) -> FitResult:
     if method not in METHODS:
         raise IdentifyError(Problem(f"unknown method '{method}'", hint=f"use one of {', '.join(METHODS)}"))
     if gradient not in GRADIENTS:
