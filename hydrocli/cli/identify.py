@@ -183,6 +183,9 @@ def _profile(model, exps, res, a, bounds, outputs, opts) -> dict:
                    f"(bootstrap [{res.uncertainty.ci_lower[i]:.5g}, {res.uncertainty.ci_upper[i]:.5g}]; "
                    f"{pi.refits} refits)" if res.uncertainty is not None else
                    f"  {pi.name}: {res.estimates[i]:.5g} in [{lo}{pi.lower:.5g}, {pi.upper:.5g}{hi}] ({pi.refits} refits)")
+        if not pi.reliable:
+            typer.echo(f"    unreliable: refits reproduce the optimum's cost only to {pi.precision:.1f}× the threshold "
+                       f"(the cost is flat to that precision: more data or fewer free parameters)")
     return {"profile_names": np.array([p.name for p in out], dtype=object),
             "profile_lower": np.array([p.lower for p in out]), "profile_upper": np.array([p.upper for p in out])}
 
