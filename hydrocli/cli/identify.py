@@ -184,8 +184,8 @@ def _profile(model, exps, res, a, bounds, outputs, opts) -> dict:
                    f"{pi.refits} refits)" if res.uncertainty is not None else
                    f"  {pi.name}: {res.estimates[i]:.5g} in [{lo}{pi.lower:.5g}, {pi.upper:.5g}{hi}] ({pi.refits} refits)")
         if not pi.reliable:
-            typer.echo(f"    unreliable: refits reproduce the optimum's cost only to {pi.precision:.1f}× the threshold "
-                       f"(the cost is flat to that precision: more data or fewer free parameters)")
+            typer.echo(f"    unreliable: a refit at the estimate misses the optimum's cost by {pi.precision:.1f}× the "
+                       f"threshold (the refits do not converge precisely enough for this interval)")
     return {"profile_names": np.array([p.name for p in out], dtype=object),
             "profile_lower": np.array([p.lower for p in out]), "profile_upper": np.array([p.upper for p in out])}
 
