@@ -73,10 +73,12 @@ def test_a_correct_model_passes_the_check_and_a_drifting_gain_is_named(model):
     for i, (n, truth) in enumerate((("lag.k", 2.0), ("lag2.tau", 0.02))):
         assert res.names[i] == n
         assert res.uncertainty.window_lower[i] <= truth <= res.uncertainty.window_upper[i]
-    drift = fit(model, [_experiment(model, drift=0.2)], assess=True)
+    # the gain drifts by 10 % over the record under noise that hides it sample by sample (the
+    # residuals look nearly white, as a slow model error under sensor noise does)
+    drift = fit(model, [_experiment(model, drift=0.1, sigma=0.1)], assess=True)
     u = drift.uncertainty
     k = drift.names.index("lag.k")
-    assert u.window_ratio[k] > LIMIT
+    assert u.window_ratio[k] > 3 * LIMIT
     assert any(m.startswith("lag.k: its estimate moves between parts of the recording") for m in u.window_messages)
     assert (u.window_upper[k] - u.window_lower[k]) > LIMIT * (u.ci_upper[k] - u.ci_lower[k])
 
