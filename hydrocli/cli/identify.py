@@ -4,7 +4,7 @@
         [--method least-squares|nelder-mead|differential-evolution] [--cost esr|seed004|wls]
         [--outputs P1,P2,v] [--mode dynamic|steady] --out identified.yaml [--results run.h5]
         [--max-evals N] [--set comp.param=VALUE …] [--add-free comp.param[=lo:hi] …] [--rtol 1e-6]
-        [--gradient auto|sensitivities|finite-differences] [--workers 2]
+        [--gradient auto|sensitivities|finite-differences] [--workers 2] [--profile comp.param|all …]
     hydro identify MACHINE --stages stages.yaml --out identified.yaml [--results run.h5]
     hydro identify MACHINE --batch 'experiments/festo/*.yaml' --jobs N [--scheduler tcp://HOST:PORT]
         --out table.csv
@@ -17,6 +17,9 @@ experiments the files are ``run_<experiment>.h5`` next to the given name.
 A dynamic fit also prints 95 % block-bootstrap intervals, what the data do not determine,
 and the fixed parameters whose error would move the estimates (free one with ``--add-free``);
 ``--max-evals`` caps every simulation and the progress bar counts the same simulations.
+It names the estimates that move between parts of the recording more than the noise explains
+(a model error no interval can bound). ``--profile NAME`` (repeatable, or ``all``) adds
+profile-likelihood intervals from refits with NAME held at trial values (a few refits each).
 """
 from __future__ import annotations
 
@@ -53,6 +56,8 @@ def register(app: typer.Typer) -> None:
         scheduler: str = typer.Option(None, "--scheduler", help="batch: Dask scheduler address tcp://HOST:PORT"),
         workers: int = typer.Option(2, "--workers", help="threads for finite-difference Jacobian columns"),
         rtol: float = typer.Option(1e-6, "--rtol", help="relative tolerance of the integrator while fitting"),
+        profile: list[str] = typer.Option(None, "--profile", help="profile-likelihood interval of this free "
+                                                                  "parameter (refits; repeatable, or 'all')"),
         sets: list[str] = SET,
     ) -> None:
         """Identify uncertain parameters from recordings and write the identified machine."""
@@ -131,6 +136,11 @@ def _run(a: dict) -> None:
         names = [n for r in res_list for n in r.names]
         write_outputs(net, model, exps, p, names, combine(res_list, stages), a["out"], a["results"], opts)
         return
+    if a.get("profile"):                         # before the fit, not after it
+        names = free if free is not None else model.free_params
+        unknown = [n for n in a["profile"] if n != "all" and n not in names]
+        if unknown:
+            _usage(f"--profile {', '.join(unknown)}: not a free parameter of this fit ({', '.join(names)})")
     exps = [e for path in a["experiment"] for e in load_all(path, model)]
     _check_before_fit(net, model, free, a, exps, outputs)
     with progress_bar(a["max_evals"]) as prog:
@@ -145,7 +155,39 @@ def _run(a: dict) -> None:
             from ..identify.fit import fit
             res = fit(model, exps, free, gradient=a["gradient"], assess=True, **kw)
     print_fit(res)
-    write_outputs(net, model, exps, res.p, res.names, res.as_dict(), a["out"], a["results"], opts)
+    ident = res.as_dict()
+    if a.get("profile"):
+        ident.update(_profile(model, exps, res, a, bounds, outputs, opts))
+    write_outputs(net, model, exps, res.p, res.names, ident, a["out"], a["results"], opts)
+
+
+def _profile(model, exps, res, a, bounds, outputs, opts) -> dict:
+    """Profile-likelihood intervals of --profile's parameters, printed and for /identify."""
+    import numpy as np
+
+    from ..identify.profile import profile_intervals
+    if a["mode"] != "dynamic" or a["method"] != "least-squares":
+        _usage("--profile needs a dynamic least-squares fit")
+    names = res.names if "all" in a["profile"] else list(dict.fromkeys(a["profile"]))
+    unknown = [n for n in names if n not in res.names]
+    if unknown:
+        _usage(f"--profile {', '.join(unknown)}: not a free parameter of this fit ({', '.join(res.names)})")
+    typer.echo(f"profile-likelihood 95 % intervals (refits with the parameter held; {len(names)} parameter(s)):")
+    out = profile_intervals(model, exps, res, names, bounds=bounds, cost=a["cost"], outputs=outputs, opts=opts,
+                            gradient=a["gradient"], workers=a["workers"])
+    for pi in out:
+        i = res.names.index(pi.name)
+        lo = "bound " if pi.at_bound[0] else ""
+        hi = " bound" if pi.at_bound[1] else ""
+        typer.echo(f"  {pi.name}: {res.estimates[i]:.5g} in [{lo}{pi.lower:.5g}, {pi.upper:.5g}{hi}] "
+                   f"(bootstrap [{res.uncertainty.ci_lower[i]:.5g}, {res.uncertainty.ci_upper[i]:.5g}]; "
+                   f"{pi.refits} refits)" if res.uncertainty is not None else
+                   f"  {pi.name}: {res.estimates[i]:.5g} in [{lo}{pi.lower:.5g}, {pi.upper:.5g}{hi}] ({pi.refits} refits)")
+        if not pi.reliable:
+            typer.echo(f"    unreliable: a refit at the estimate misses the optimum's cost by {pi.precision:.1f}× the "
+                       f"threshold (the refits do not converge precisely enough for this interval)")
+    return {"profile_names": np.array([p.name for p in out], dtype=object),
+            "profile_lower": np.array([p.lower for p in out]), "profile_upper": np.array([p.upper for p in out])}
 
 
 def _check_before_fit(net, model, free, a, exps, outputs) -> None:

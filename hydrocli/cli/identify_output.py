@@ -109,6 +109,10 @@ def print_assessment(unc) -> None:
         else:
             typer.echo(f"fixed parameters: a 10 % error in any of the {len(unc.fixed_names)} fixed parameters moves "
                        f"no estimate by more than two standard errors")
+    if unc.window_messages:
+        typer.echo("model error (the estimates differ between parts of the recording):")
+        for m in unc.window_messages:
+            typer.echo(f"  {m}")
 
 
 def print_table(rows: list[list]) -> None:

@@ -31,7 +31,8 @@ def identify(model: Model, exps, free=None, p_start=None, iterations: int = 30, 
     n_free = len(free if free is not None else model.free_params)
     per = 2 if gradient != "finite-differences" and sensitivities_available(model) else n_free + 1
     return fit(model, exps, free, method="least-squares", cost="esr", p_start=p_start,
-               max_evals=iterations * per + n_free + 2, opts=OPTS, progress=progress, gradient=gradient)
+               max_evals=iterations * per + n_free + 2, opts=OPTS, progress=progress, gradient=gradient,
+               polish=False)
 
 
 def inflated_stderr(res: FitResult, n_eff: float) -> np.ndarray:

@@ -140,13 +140,19 @@ class Objective:
             for col, y, m, s in zip(t.cols, t.values, t.masks, t.scales):
                 k = s * np.sqrt(m.sum())
                 r = (tr.Y[m, col] - y[m]) / k
-                jr = tr.dY[m, col, :] / k
+                jr = tr.dY[m, col, :]
+                jr /= k
                 bad = ~np.isfinite(r)
-                out_r.append(np.where(bad, FAIL_RESIDUAL, r))
-                out_j.append(np.where(bad[:, None] | ~np.isfinite(jr), 0.0, jr))
+                if bad.any():
+                    r = np.where(bad, FAIL_RESIDUAL, r)
+                    jr[bad] = 0.0
+                if not np.isfinite(jr).all():
+                    jr[~np.isfinite(jr)] = 0.0
+                out_r.append(r)
+                out_j.append(jr)
         if not out_r:
             return np.zeros(0), np.zeros((0, len(wrt)))
-        return np.concatenate(out_r), np.vstack(out_j)
+        return np.concatenate(out_r), (out_j[0] if len(out_j) == 1 else np.concatenate(out_j))
 
     def _settle_sensitivities(self, exp: Experiment, p: np.ndarray, wrt: list[str]):
         """x0 after the experiment's settling run and ∂x0/∂p[wrt] (its state sensitivities)."""

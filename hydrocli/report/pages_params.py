@@ -122,6 +122,9 @@ def _assessment_page(out, run: Loaded) -> None:
               ("Fixed parameters the estimates are sensitive to", fixed
                or [f"a 10 % error in any of the {n_fixed} fixed parameters moves no estimate by more than "
                    f"two standard errors" if n_fixed else "not assessed (no sensitivities)"])]
+    window = _lines(d, "window_messages")
+    if window:
+        blocks.append(("Model error: estimates that differ between parts of the recording", window))
     y = 0.86
     for title, items in blocks:
         fig.text(0.05, y, title, fontsize=11, weight="bold")

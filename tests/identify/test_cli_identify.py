@@ -138,3 +138,19 @@ def test_bad_free_option_is_a_usage_error(tmp_path, eha):
     assert r.exit_code == 2 and "lo:hi" in r.output
     r = _invoke("identify", EHA, "-e", "x.csv", "--free", "valve.Kv=1 kg:2 kg", "--out", tmp_path / "id.yaml")
     assert r.exit_code == 2 and "Traceback" not in r.output
+
+
+def test_profile_option_prints_and_stores_intervals_that_bracket_the_truth(tmp_path, eha):
+    _, model = eha
+    csv, truth = _recording(tmp_path, model)
+    h5 = tmp_path / "run.h5"
+    r = _invoke("identify", EHA, "-e", csv, "--free", "valve.Kv", "--outputs", "P1,P2,v", "--out",
+                tmp_path / "id.yaml", "--results", h5, "--profile", "valve.Kv")
+    assert r.exit_code == 0, r.output
+    assert "profile-likelihood 95 % intervals" in r.output and "valve.Kv:" in r.output
+    with h5py.File(h5) as h:
+        lo, hi = h["identify"]["profile_lower"][0], h["identify"]["profile_upper"][0]
+    assert lo <= truth[model.param_index("valve.Kv")] <= hi
+    r = _invoke("identify", EHA, "-e", csv, "--free", "valve.Kv", "--out", tmp_path / "id2.yaml",
+                "--profile", "load.m")
+    assert r.exit_code == 2 and "not a free parameter" in r.output

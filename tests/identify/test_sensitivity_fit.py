@@ -44,8 +44,8 @@ def lag(tmp_path_factory):
 
 def test_sensitivity_and_difference_jacobians_reach_the_same_optimum(lag):
     model, exp = lag
-    a = fit(model, [exp], gradient="sensitivities")
-    b = fit(model, [exp], gradient="finite-differences")
+    a = fit(model, [exp], gradient="sensitivities", polish=False)     # the searches themselves
+    b = fit(model, [exp], gradient="finite-differences", polish=False)
     assert a.gradient == "sensitivities" and b.gradient == "finite-differences"
     assert a.estimates == pytest.approx(b.estimates, rel=1e-3)
     assert a.cost <= b.cost * (1 + 1e-6)
