@@ -244,3 +244,18 @@ def test_actuator_bulk_modulus_below_oil_is_restrained_and_hoses_are_not(tmp_pat
     info = m.params[m.param_index("cylinder.beta")]
     assert info.bounds == (restrain.OIL_MIN, 2.5e9) and info.value == restrain.OIL_MIN
     assert "cylinder.beta" in m.free_params
+
+
+def test_single_rod_cylinder_gets_a_rod_seal_leak_form_and_symmetric_actuators_do_not():
+    """External leakage of a single-rod cylinder happens at its rod seal: a form that drains the
+    rod-side (smaller-area) chamber only; a double-rod cylinder or a vane has no such side."""
+    from hydrocli.model.builder import build_model
+    lift = load_netlist(ROOT / "machines" / "luffing_cylinder.yaml")
+    cands, _ = catalogue(Context(lift, set(), {}, {}, {}))
+    rod = next(c for c in cands if c.key.endswith("#rod_seal"))
+    aug = rod.build(lift)
+    new = [n for n in aug.components if n not in lift.components]
+    assert len(new) == 1 and aug.components[new[0]].ports["A"] == lift.components["cylinder"].ports["B"]
+    assert set(p.name for p in rod.params) <= set(build_model(aug).free_params)
+    eha = load_netlist(ROOT / "machines" / "eha_testbench.yaml")
+    assert not any(c.key.endswith("#rod_seal") for c in catalogue(Context(eha, set(), {}, {}, {}))[0])

@@ -40,6 +40,12 @@ class CylinderFamily(Family):
             k = ctx.size(act) / REF_SIZE
             out.append(self._internal(ctx, act, a, b, k))
             out.append(self._external(ctx, act, a, b, k))
+            rod_side = _rod_side(ctx, act)
+            if rod_side is not None and _tank_node(ctx) is not None:
+                # a single-rod cylinder leaks to the outside at its rod seal: from the rod-side
+                # chamber only (the piston-side chamber has no seal to the outside)
+                out.append(_laminar(ctx, "external_leakage", act.name, [(act.node(rod_side), _tank_node(ctx))],
+                                    "rod-seal leakage of the rod-side chamber to drain", k, variant="rod_seal"))
             out.append(self._air(ctx, act, a, b))
             out.append(self._end_stop(ctx, act))
         return out
@@ -140,8 +146,21 @@ def _orifice(ctx: Context, effect: str, owner: str, paths: list[tuple[str, str]]
     return Candidate(effect, owner, params, build, "continuity", description, variant="orifice")
 
 
+def _rod_side(ctx: Context, act: Part) -> str | None:
+    """The actuator's rod-side chamber slot (``chamber_b`` when its second displacement — the
+    annulus — is the smaller one), None when both sides are alike (double rod, vane, motor)."""
+    names = act.params("displacements")
+    if len(names) != 2:
+        return None
+    try:
+        a_a, a_b = (abs(ctx.value(n)) for n in names)
+    except (KeyError, TypeError, ValueError):
+        return None
+    return "chamber_b" if a_b < 0.98 * a_a else ("chamber_a" if a_a < 0.98 * a_b else None)
+
+
 def _laminar(ctx: Context, effect: str, owner: str, paths: list[tuple[str, str]], description: str,
-             s: float = 1.0) -> Candidate:
+             s: float = 1.0, variant: str = "laminar") -> Candidate:
     """Leakage paths as laminar restrictions Δp = R·q, identified as a resistance on a log
     scale (started where no flow passes: R = 1e16/s Pa·s/m³), ``s`` the actuator's size ratio."""
     typ, role = ctx.element(R.LAMINAR_RESTRICTION, Domain.HYDRAULIC)
@@ -155,7 +174,7 @@ def _laminar(ctx: Context, effect: str, owner: str, paths: list[tuple[str, str]]
         for n, (a, b) in zip(names, paths):
             net = A.add(net, n, typ, {role.port("a"): a, role.port("b"): b}, {r: 1e16 / s})
         return A.free_new(net, params)
-    return Candidate(effect, owner, params, build, "continuity", description, variant="laminar")
+    return Candidate(effect, owner, params, build, "continuity", description, variant=variant)
 
 
 def _air_volumes(ctx: Context, act: Part, nodes: list[str], description: str) -> Candidate:
