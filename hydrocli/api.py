@@ -165,7 +165,7 @@ class Machine:
                  error_control: str = "scaled") -> SimulationResult:
         """Simulate against an experiment (path or loaded). ``set`` changes SI parameter values
         for this run only (no rebuild). The default tolerance means an accuracy:
-        ``error_control="scaled"`` at rtol 3e-5 (``solve.simulate.simulate_options``); pass
+        ``error_control="scaled"`` at rtol 1.5e-5 (``solve.simulate.simulate_options``); pass
         ``error_control="nominal"`` (and e.g. rtol 1e-6) for the fitting commands' control.
         Raises SolverError on divergence."""
         from .runner import simulate_experiment

@@ -1,6 +1,6 @@
 """The default tolerance of ``hydro simulate`` means an accuracy (issue 16).
 
-``simulate_options()`` is ``error_control="scaled"`` at rtol 3e-5; the compiled backend then
+``simulate_options()`` is ``error_control="scaled"`` at rtol 1.5e-5; the compiled backend then
 runs Rodas4P and crosses the inputs' kinks (above rtol 1e-5), Rodas5P landing on the kinks
 below.  Checked against independent references only: closed forms and the hand-written EHA
 under scipy Radau at rtol 1e-10 (no timings here; speed is ``hydro bench --only eha``).
@@ -38,8 +38,8 @@ def test_rodas4p_crossing_kinks_on_the_stiff_closed_form(tmp_path):
     """The loose-tolerance setting (Rodas4P, kinks crossed) on the stiff closed form of
     test_tolerance (λ = 1e4 and 3, 1 kHz table with a ramped step), errors falling with rtol.
     Rodas4P's embedded estimate is looser than Rodas5P's on the stiff input-driven state:
-    measured 47, 148, 64 × rtol at rtol 1e-3, 1e-4, 3e-5 (Rodas5P landing on the kinks: 13,
-    10, 18; the slow state: ≤ 5 × rtol for both) — the price of the default's speed,
+    measured 47, 148, 54 × rtol at rtol 1e-3, 1e-4, 1.5e-5 (Rodas5P landing on the kinks: 13,
+    10, 18-29; the slow state: ≤ 5 × rtol for both) — the price of the default's speed,
     documented in docs/solver.md."""
     lib = CompiledModel(build_library("#define HY_METHOD 2\n" + PR_SOURCE, cache_dir=tmp_path), 2, 2, 1, 0)
     t = np.arange(0.0, 2.0 + 5e-4, 1e-3)
@@ -60,9 +60,9 @@ def test_rodas4p_crossing_kinks_on_the_stiff_closed_form(tmp_path):
 def test_default_is_as_accurate_as_bdf_on_the_eha():
     """seed 004's EHA, the bench's 20 s (the issue's baseline is defined on it): hydro
     simulate's default against the hand-written model under Radau rtol 1e-10 is at least as
-    accurate as the hand-written model under solve_ivp BDF rtol 1e-6 (measured: 0.020 vs
-    0.044 bar, 0.14 vs 0.30 mm/s), and its pressure error is a small multiple of
-    rtol × 100 bar (measured 6.8)."""
+    accurate as the hand-written model under solve_ivp BDF rtol 1e-6 (measured: 0.016 vs
+    0.044 bar, 0.11 vs 0.30 mm/s), and its pressure error is a small multiple of
+    rtol × 100 bar (measured 10.5)."""
     from scipy.integrate import solve_ivp
 
     t_end = 20.0
@@ -77,7 +77,7 @@ def test_default_is_as_accurate_as_bdf_on_the_eha():
                     t_eval=t, rtol=1e-6, atol=B.ATOL_HAND * 1e-2)
     dp_bdf, dv_bdf = B._errors(bdf.y.T, ref)
     assert dp <= dp_bdf and dv <= dv_bdf, (dp, dv, dp_bdf, dv_bdf)
-    assert dp * 1e5 < 15 * SIMULATE_RTOL * 1e7, f"{dp:.3e} bar"
+    assert dp * 1e5 < 20 * SIMULATE_RTOL * 1e7, f"{dp:.3e} bar"
 
 
 def test_cli_simulate_rejects_unknown_error_control(tmp_path):
