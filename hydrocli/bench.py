@@ -342,7 +342,7 @@ def print_wp(title: str, pts: list[WPPoint], echo=print) -> None:
     echo(title)
     echo(f"  {'solver':18s} {'rtol':>7s} {'CPU ms':>10s} {'max dp bar':>11s} {'max dv mm/s':>12s} {'steps/nfev':>10s}")
     for q in pts:
-        echo(f"  {q.solver:18s} {q.rtol:7.0e} {q.seconds * 1e3:10.2f} {q.err_bar:11.2e} {q.err_mm_s:12.2e} {q.steps:10d}"
+        echo(f"  {q.solver:18s} {q.rtol:7.2g} {q.seconds * 1e3:10.2f} {q.err_bar:11.2e} {q.err_mm_s:12.2e} {q.steps:10d}"
              + ("  ← hydro simulate's default" if q.default else ""))
 
 
@@ -358,7 +358,7 @@ def plot_wp(panels: dict[str, list[WPPoint]], path: str | Path) -> Path:
             qs = sorted((q for q in pts if q.solver == solver), key=lambda q: q.rtol)
             ax.loglog([q.err_bar for q in qs], [q.seconds for q in qs], "o-", label=solver)
             for q in qs:
-                ax.annotate(f"{q.rtol:.0e}", (q.err_bar, q.seconds), fontsize=6, alpha=0.7)
+                ax.annotate(f"{q.rtol:.2g}", (q.err_bar, q.seconds), fontsize=6, alpha=0.7)
         dflt = [q for q in pts if q.default]
         if dflt:
             ax.loglog([q.err_bar for q in dflt], [q.seconds for q in dflt], "k*", markersize=13, zorder=5,
