@@ -32,6 +32,10 @@
  *   accuracy and L-stability give clean behaviour on very stiff modes; the embedded
  *   solution gives a reliable error estimate; the dense output lets us produce a
  *   1 kHz output grid without shortening steps.
+ * hydrocli compiles RODAS5P (the default) and, for SolverOptions(error_control="scaled")
+ *   above rtol 1e-5 (the default of `hydro simulate`), a second library of the same model
+ *   with HY_METHOD 2: at the accuracy of scipy BDF on the EHA RODAS4P needs ~25 % fewer
+ *   right-hand sides (solve/simulate.py: method_for; docs/solver.md).
  * Why RODAS5P by default (measured on machines/eha_testbench.yaml, `hydro bench
  *   --only eha`, analytic Jacobian): to reach the accuracy of scipy BDF (rtol 1e-6)
  *   RODAS5P needs rtol 1e-7 and ~44k rhs calls / 4.3k steps, RODAS4 ~86k / 10k
@@ -61,7 +65,7 @@
  *   output time, to hmax, and -- only when some input is zero-order-hold -- to the
  *   next input sample time (a ZOH input is discontinuous there).  Inputs marked
  *   u_hold[j] == 2 are linear like 0, but steps end on their kinks (see
- *   hy_setup_breaks; used by SolverOptions(error_control="scaled")).
+ *   hy_setup_breaks; used by SolverOptions(error_control="scaled") at rtol <= 1e-5).
  * Recoverable failures: a stage that makes the model return a status code, or a
  *   non-finite error estimate, rejects the step and retries with h/5; only when
  *   the step size underflows is the status reported (so the reported time is the
