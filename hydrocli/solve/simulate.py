@@ -54,10 +54,12 @@ SIMULATE_RTOL = 1.5e-5
 def simulate_options(rtol: float | None = None, backend: str = "auto",
                      error_control: str = "scaled") -> SolverOptions:
     """The options of ``hydro simulate`` and ``Machine.simulate``: by default a tolerance that
-    means an accuracy (``error_control="scaled"`` at :data:`SIMULATE_RTOL`).  Fitting
-    (identify, diagnose, validate) keeps ``SolverOptions()``'s ``"nominal"`` control."""
-    return SolverOptions(rtol=SIMULATE_RTOL if rtol is None else float(rtol), backend=backend,
-                         error_control=error_control)
+    means an accuracy (``error_control="scaled"`` at :data:`SIMULATE_RTOL`; ``"nominal"``
+    without an rtol is ``SolverOptions()``, rtol 1e-6).  Fitting (identify, diagnose,
+    validate) keeps ``SolverOptions()``'s ``"nominal"`` control."""
+    if rtol is None:   # the default of each control: 1.5e-5 scaled, the fitting default 1e-6 nominal
+        rtol = SIMULATE_RTOL if error_control == "scaled" else SolverOptions.rtol
+    return SolverOptions(rtol=float(rtol), backend=backend, error_control=error_control)
 
 
 def method_for(opts: SolverOptions) -> str:

@@ -24,6 +24,7 @@ def test_default_options_and_method_choice():
     d = simulate_options()
     assert (d.error_control, d.rtol) == ("scaled", SIMULATE_RTOL) and SIMULATE_RTOL > LOOSE_RTOL
     assert method_for(d) == "rodas4p"
+    assert simulate_options(error_control="nominal") == SolverOptions()   # the previous default
     assert method_for(simulate_options(1e-6)) == "rodas5p"             # tight: order 5
     assert method_for(SolverOptions()) == "rodas5p"                     # fitting: unchanged
     assert method_for(SolverOptions(rtol=1e-3)) == "rodas5p"            # nominal never switches
