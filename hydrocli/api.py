@@ -161,15 +161,19 @@ class Machine:
         return {p.name: p.value for p in self.model.params}
 
     def simulate(self, experiment: str | Path | Experiment, *, set: Mapping[str, float] | None = None,
-                 rtol: float = 1e-6, backend: str = "auto", command: str = "") -> SimulationResult:
+                 rtol: float | None = None, backend: str = "auto", command: str = "",
+                 error_control: str = "scaled") -> SimulationResult:
         """Simulate against an experiment (path or loaded). ``set`` changes SI parameter values
-        for this run only (no rebuild). Raises SolverError on divergence."""
+        for this run only (no rebuild). The default tolerance means an accuracy:
+        ``error_control="scaled"`` at rtol 1.5e-5 (``solve.simulate.simulate_options``); pass
+        ``error_control="nominal"`` (and e.g. rtol 1e-6) for the fitting commands' control.
+        Raises SolverError on divergence."""
         from .runner import simulate_experiment
-        from .solve.simulate import SolverOptions
+        from .solve.simulate import simulate_options
         exp = experiment if isinstance(experiment, Experiment) else _load_experiment(experiment, self.model)
         p = self.model.param_vector(dict(set or {}))
-        run = simulate_experiment(self.model, exp, p=p, opts=SolverOptions(rtol=rtol, backend=backend),
-                                  command=command)
+        opts = simulate_options(rtol, backend=backend, error_control=error_control)
+        run = simulate_experiment(self.model, exp, p=p, opts=opts, command=command)
         return SimulationResult(run)
 
     def identify(self, experiments: Sequence[str | Path | Experiment], free: Sequence[str] | None = None, *,

@@ -5,6 +5,13 @@ import typer
 
 SET = typer.Option(None, "--set", help="override a parameter: comp.param=VALUE (units allowed), repeatable")
 RTOL = typer.Option(1e-6, "--rtol", help="relative tolerance of the integrator")
+SIM_RTOL = typer.Option(None, "--rtol", help="relative tolerance of the integrator; under the default "
+                        "--error-control scaled the achieved error is a few x rtol x each signal's scale "
+                        "(100 bar, 0.1 m/s ...); default 1.5e-5")
+ERROR_CONTROL = typer.Option("scaled", "--error-control",
+                             help="scaled: tolerance = accuracy relative to signal scale | nominal: the fitting "
+                                  "commands' faster, looser control")
+ERROR_CONTROLS = ("scaled", "nominal")
 BACKEND = typer.Option("auto", "--backend", help="integrator backend: auto | compiled | python")
 BACKENDS = ("auto", "compiled", "python")
 

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from .options import BACKEND, RTOL, SET
+from .options import BACKEND, ERROR_CONTROL, SET, SIM_RTOL
 
 
 def register(app: typer.Typer) -> None:
@@ -16,20 +16,22 @@ def register(app: typer.Typer) -> None:
         experiment: Path = typer.Option(..., "--experiment", "-e", help="experiment YAML or recording (.csv/.h5/.mat)"),
         out: Path = typer.Option(Path("result.h5"), "--out", "-o", help="HDF5 result file to write"),
         sets: list[str] = SET,
-        rtol: float = RTOL,
+        rtol: float = SIM_RTOL,
         backend: str = BACKEND,
+        error_control: str = ERROR_CONTROL,
     ) -> None:
         """Simulate a machine against recorded or designed inputs and write HDF5."""
         from .main import run_guarded
-        run_guarded(_run, machine, experiment, out, sets, rtol, backend)
+        run_guarded(_run, machine, experiment, out, sets, rtol, backend, error_control)
 
 
-def _run(machine, experiment, out, sets, rtol, backend) -> None:
+def _run(machine, experiment, out, sets, rtol, backend, error_control="scaled") -> None:
     from ..api import load_experiment, load_machine   # the Python API: one path for CLI and notebooks
 
     from ..fileio import guard_output
-    from .options import BACKENDS, check_choice, check_positive
+    from .options import BACKENDS, ERROR_CONTROLS, check_choice, check_positive
     check_choice("--backend", backend, BACKENDS)
+    check_choice("--error-control", error_control, ERROR_CONTROLS)
     check_positive("--rtol", rtol, upper=1.0)
     guard_output(out, (machine, experiment))
     t0 = time.perf_counter()
@@ -40,7 +42,7 @@ def _run(machine, experiment, out, sets, rtol, backend) -> None:
     exp = load_experiment(experiment, m)
     guard_output(out)                       # now that the recording an experiment names is known
     t1 = time.perf_counter()
-    sim = m.simulate(exp, rtol=rtol, backend=backend)
+    sim = m.simulate(exp, rtol=rtol, backend=backend, error_control=error_control)
     t2 = time.perf_counter()
     res = sim.run
     sim.save(out)

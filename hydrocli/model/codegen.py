@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 
 from . import expr as E
-from .equations import Equations, jacobian_pattern, order_variables
+from .equations import Equations, StateDeps, jacobian_pattern, order_variables
 
 MAX_JACOBIAN_CHARS = 1_000_000  # beyond this, compile time outweighs the gain: finite differences
 
@@ -65,8 +65,10 @@ def generate_c(eqs: Equations, name: str = "model", analytic_jacobian: bool = Tr
         lines.append(f"    if ({E.to_c(g, names)}) return {k + 1};")
     for i, s in enumerate(eqs.states):
         lines.append(f"    dx[{i}] = {E.to_c(eqs.derivatives[s], names)};")
-    lines += ["    return 0;", "}", "",
-              "static int hy_out(double t, const double *x, const double *p, const double *u, double *y) {",
+    lines += ["    return 0;", "}", ""]
+    if not any(StateDeps(eqs, "input").of(eqs.output_exprs[o]) for o in eqs.outputs):
+        lines.append("#define HY_OUT_NO_INPUTS  /* the integrator skips the input lookup per output sample */")
+    lines += ["static int hy_out(double t, const double *x, const double *p, const double *u, double *y) {",
               "    (void)t; (void)x; (void)p; (void)u; (void)y;"]
     lines += _c_body(eqs, names, out_roots)
     for i, o in enumerate(eqs.outputs):

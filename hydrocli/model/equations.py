@@ -59,13 +59,14 @@ def order_variables(eqs: Equations, roots: list[E.Expr]) -> list[str]:
 
 
 class StateDeps:
-    """Which states (or, with ``kind="param"``, which parameters) each variable and each
-    derivative depends on (through variables)."""
+    """Which states (or, with ``kind="param"`` / ``"input"``, which parameters / inputs) each
+    variable and each derivative depends on (through variables)."""
 
     def __init__(self, eqs: Equations, kind: str = "state"):
         self.eqs = eqs
         self.kind = kind
-        self.index = {s: i for i, s in enumerate(eqs.states if kind == "state" else eqs.params)}
+        names = {"state": eqs.states, "param": eqs.params, "input": eqs.inputs}[kind]
+        self.index = {s: i for i, s in enumerate(names)}
         self.of_var: dict[str, frozenset[int]] = {}
 
     def of(self, e: E.Expr) -> frozenset[int]:

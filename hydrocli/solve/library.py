@@ -16,17 +16,33 @@ from .compiled import CompileError, CompiledModel
 
 _UNAVAILABLE: dict[str, str] = {}
 
-
-def compiled(model: Model) -> CompiledModel:
-    """The model's compiled library (built on first use, cached on disk and on the model)."""
-    if model._compiled is None:
-        eq = model.equations
-        so = _c.build_library(model.c_source)
-        model._compiled = CompiledModel(so, len(eq.states), len(eq.params), len(eq.inputs), len(eq.outputs))
-    return model._compiled
+#: Rosenbrock coefficient sets of csrc/hy_methods.h by name (HY_METHOD)
+METHODS = {"rodas4": 1, "rodas4p": 2, "rodas5p": 3}
+DEFAULT_METHOD = "rodas5p"
 
 
-def compiled_or_none(model, warn=None):
+def compiled(model: Model, method: str = DEFAULT_METHOD) -> CompiledModel:
+    """The model's compiled library (built on first use, cached on disk and on the model).
+
+    ``method`` picks the Rosenbrock coefficient set compiled in (``METHODS``); the default
+    Rodas5P library is the model's plain source, any other is a second library built on
+    first use (``#define HY_METHOD k`` before the model)."""
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    eq = model.equations
+    sizes = (len(eq.states), len(eq.params), len(eq.inputs), len(eq.outputs))
+    if method == DEFAULT_METHOD:
+        if model._compiled is None:
+            model._compiled = CompiledModel(_c.build_library(model.c_source), *sizes)
+        return model._compiled
+    libs = model.__dict__.setdefault("_compiled_methods", {})
+    if method not in libs:
+        libs[method] = CompiledModel(_c.build_library(f"#define HY_METHOD {METHODS[method]}\n" + model.c_source),
+                                     *sizes)
+    return libs[method]
+
+
+def compiled_or_none(model, warn=None, method: str = DEFAULT_METHOD):
     """``compiled(model)``, or None when no C compiler works or the library cannot be loaded.
 
     Only a compiler failure (:class:`CompileError`) or a library that will not load
@@ -45,12 +61,13 @@ def compiled_or_none(model, warn=None):
 
     try:
         try:
-            return compiled(model)
+            return compiled(model, method)
         except (OSError, ValueError) as exc:             # a broken cached library: rebuild it once
             if not load_error(exc):
                 raise
-            os.unlink(_c.build_library(model.c_source))
-            return compiled(model)
+            src = model.c_source if method == DEFAULT_METHOD else f"#define HY_METHOD {METHODS[method]}\n" + model.c_source
+            os.unlink(_c.build_library(src))
+            return compiled(model, method)
     except (CompileError, OSError, ValueError) as exc:
         if not isinstance(exc, CompileError) and not load_error(exc):
             raise

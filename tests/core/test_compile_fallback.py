@@ -54,6 +54,6 @@ def test_broken_cached_library_is_rebuilt(monkeypatch, capsys, tmp_path):
 
 def test_a_bug_is_not_hidden_by_the_fallback(monkeypatch):
     model = _model("bug_rig")
-    monkeypatch.setattr(L, "compiled", lambda model: (_ for _ in ()).throw(KeyError("bug")))
+    monkeypatch.setattr(L, "compiled", lambda model, method="rodas5p": (_ for _ in ()).throw(KeyError("bug")))
     with pytest.raises(KeyError):
         _run(model)

@@ -32,6 +32,10 @@
  *   accuracy and L-stability give clean behaviour on very stiff modes; the embedded
  *   solution gives a reliable error estimate; the dense output lets us produce a
  *   1 kHz output grid without shortening steps.
+ * hydrocli compiles RODAS5P (the default) and, for SolverOptions(error_control="scaled")
+ *   above rtol 1e-5 (the default of `hydro simulate`), a second library of the same model
+ *   with HY_METHOD 2: at the accuracy of scipy BDF on the EHA RODAS4P needs ~25 % fewer
+ *   right-hand sides (solve/simulate.py: method_for; docs/solver.md).
  * Why RODAS5P by default (measured on machines/eha_testbench.yaml, `hydro bench
  *   --only eha`, analytic Jacobian): to reach the accuracy of scipy BDF (rtol 1e-6)
  *   RODAS5P needs rtol 1e-7 and ~44k rhs calls / 4.3k steps, RODAS4 ~86k / 10k
@@ -61,7 +65,7 @@
  *   output time, to hmax, and -- only when some input is zero-order-hold -- to the
  *   next input sample time (a ZOH input is discontinuous there).  Inputs marked
  *   u_hold[j] == 2 are linear like 0, but steps end on their kinks (see
- *   hy_setup_breaks; used by SolverOptions(error_control="scaled")).
+ *   hy_setup_breaks; used by SolverOptions(error_control="scaled") at rtol <= 1e-5).
  * Recoverable failures: a stage that makes the model return a status code, or a
  *   non-finite error estimate, rejects the step and retries with h/5; only when
  *   the step size underflows is the status reported (so the reported time is the
@@ -86,6 +90,8 @@
  *   the steep friction tanh, where the step collapses through several rejections.
  *   Jacobian reuse across steps was measured to be much worse (not W-methods).
  *
+ * HY_OUT_NO_INPUTS (set by the code generator when no output reads an input): the dense
+ *   output skips the input lookup per output sample (~3 % of the EHA's run at 1 kHz output).
  * Compile-time knobs (define before including): HY_METHOD (3), HY_FORCE_DENSE, HY_FORCE_SPARSE,
  *   HY_DENSE_MAX (24), HY_PIVTOL (1e-8), HY_HAS_JAC, HY_SAFE (0.9), HY_GROW (6).
  *
@@ -167,33 +173,47 @@ typedef struct {
 
 /* ------------------------------------------------------------------ inputs */
 
-/* interval k with t_in[k] <= tau < t_in[k+1]; -1 before the table, n-1 after. */
+/* interval k with t_in[k] <= tau < t_in[k+1]; -1 before the table, n-1 after.
+   Galloping (exponential) search from the cached interval, then bisection inside the
+   bracket: O(log d) for a jump of d samples.  Successive calls are close in time but not
+   monotone (stage times, then output times back inside the step, then the next step), and
+   a step spans tens of samples of a 1 kHz table; a bisection over the whole table made
+   this lookup ~10 % of the EHA's run time (perf, issue 16). */
 static int hy_seg_find(hy_ws *w, double tau)
 {
     const double *ti = w->t_in;
     const int n = w->n_tin;
-    int k = w->seg, it;
+    int k = w->seg, lo, hi, d;
     if (n <= 0) return -1;
-    if (k < -1) k = -1;
-    if (k > n - 1) k = n - 1;
-    for (it = 0; it < 6; ++it) {           /* amortised O(1) local walk */
-        if (k >= 0 && tau < ti[k]) { --k; continue; }
-        if (k + 1 < n && tau >= ti[k + 1]) { ++k; continue; }
-        w->seg = k;
-        return k;
-    }
-    if (!(tau >= ti[0])) k = -1;            /* far jump: bisection */
-    else if (tau >= ti[n - 1]) k = n - 1;
-    else {
-        int lo = 0, hi = n - 1;             /* ti[lo] <= tau < ti[hi] */
-        while (hi - lo > 1) {
-            int mid = lo + ((hi - lo) >> 1);
-            if (ti[mid] <= tau) lo = mid; else hi = mid;
+    if (!(tau >= ti[0])) { w->seg = -1; return -1; }
+    if (tau >= ti[n - 1]) { w->seg = n - 1; return n - 1; }
+    /* here 0 <= answer <= n-2: find lo, hi with ti[lo] <= tau < ti[hi] */
+    if (k < 0) k = 0;
+    if (k > n - 2) k = n - 2;
+    if (ti[k] <= tau) {
+        if (tau < ti[k + 1]) { w->seg = k; return k; }
+        lo = k + 1; d = 1;
+        for (;;) {                                   /* gallop forward */
+            hi = lo + d;
+            if (hi >= n - 1) { hi = n - 1; break; }
+            if (tau < ti[hi]) break;
+            lo = hi; d <<= 1;
         }
-        k = lo;
+    } else {
+        hi = k; d = 1;
+        for (;;) {                                   /* gallop backward */
+            lo = hi - d;
+            if (lo <= 0) { lo = 0; break; }
+            if (ti[lo] <= tau) break;
+            hi = lo; d <<= 1;
+        }
     }
-    w->seg = k;
-    return k;
+    while (hi - lo > 1) {
+        const int mid = lo + ((hi - lo) >> 1);
+        if (ti[mid] <= tau) lo = mid; else hi = mid;
+    }
+    w->seg = lo;
+    return lo;
 }
 
 /* inputs at tau; the interval index is capped at kcap (used to evaluate a ZOH
@@ -422,7 +442,9 @@ static int hy_emit(hy_ws *w, int i, double to, const double *xo, double *X_out, 
 {
     memcpy(X_out + (size_t)i * HY_NX, xo, sizeof(double) * HY_NX);
 #if HY_NY > 0
+#ifndef HY_OUT_NO_INPUTS       /* defined by the generated model when no output reads an input */
     hy_eval_u(w, to, INT_MAX, w->u);
+#endif
     return hy_out(to, xo, w->p, w->u, Y_out + (size_t)i * HY_NY);
 #else
     (void)w; (void)to; (void)Y_out;

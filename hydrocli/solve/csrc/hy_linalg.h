@@ -7,11 +7,13 @@
 
 /* ------------------------------------------------------------- dense LU */
 
-/* Row-major, partial pivoting; the size is the compile-time HY_NX so that small
-   systems are fully unrolled.  The diagonal of U is stored inverted in dinv. */
-static int hy_lu_dense(double *a, int *piv, double *dinv)
+/* Row-major, partial pivoting (whole rows swapped, so P A = L U); the size is the
+   compile-time HY_NX so that small systems are fully unrolled.  The diagonal of U is stored
+   inverted in dinv; piv[i] is the original row that ends in row i (P as a gather list). */
+static int hy_lu_dense(double *restrict a, int *restrict piv, double *restrict dinv)
 {
     int i, j, k;
+    for (i = 0; i < HY_NX; ++i) piv[i] = i;
     for (k = 0; k < HY_NX; ++k) {
         int pr = k;
         double amax = fabs(a[(size_t)k * HY_NX + k]);
@@ -19,11 +21,13 @@ static int hy_lu_dense(double *a, int *piv, double *dinv)
             double v = fabs(a[(size_t)i * HY_NX + k]);
             if (v > amax) { amax = v; pr = i; }
         }
-        piv[k] = pr;
         if (!(amax > 0.0) || !isfinite(amax)) return 1;
         if (pr != k) {
             double *r1 = a + (size_t)k * HY_NX, *r2 = a + (size_t)pr * HY_NX;
+            const int tp = piv[k];
             for (j = 0; j < HY_NX; ++j) { double tmp = r1[j]; r1[j] = r2[j]; r2[j] = tmp; }
+            piv[k] = piv[pr];
+            piv[pr] = tp;
         }
         {
             const double *rk = a + (size_t)k * HY_NX;
@@ -41,29 +45,33 @@ static int hy_lu_dense(double *a, int *piv, double *dinv)
     return 0;
 }
 
-static void hy_lu_dense_solve(const double *a, const int *piv, const double *dinv, double *b)
+/* Solve L U x = P b in place.  The right-hand side is worked on in a local copy so that,
+   with the size a compile-time constant and the loops unrolled, it lives in registers: through
+   the pointer b every store would force the compiler to reload (b may alias a), which made
+   this solve the largest single cost of a step on the EHA (perf, issue 16). */
+static void hy_lu_dense_solve(const double *restrict a, const int *restrict piv, const double *restrict dinv,
+                              double *restrict b)
 {
-    int i, j, k;
-    for (k = 0; k < HY_NX; ++k) {
-        const int pr = piv[k];
-        const double tmp = b[k];
-        b[k] = b[pr];
-        b[pr] = tmp;
-    }
+    double v[HY_NX];
+    int i, j;
+    HY_UNROLL
+    for (i = 0; i < HY_NX; ++i) v[i] = b[piv[i]];      /* v = P b */
     /* column-oriented substitutions: independent updates, no long FP chain */
     HY_UNROLL
     for (j = 0; j < HY_NX - 1; ++j) {
-        const double bj = b[j];
+        const double bj = v[j];
         HY_UNROLL
-        for (i = j + 1; i < HY_NX; ++i) b[i] -= a[(size_t)i * HY_NX + j] * bj;
+        for (i = j + 1; i < HY_NX; ++i) v[i] -= a[(size_t)i * HY_NX + j] * bj;
     }
     HY_UNROLL
     for (j = HY_NX - 1; j >= 0; --j) {
-        const double bj = b[j] * dinv[j];
-        b[j] = bj;
+        const double bj = v[j] * dinv[j];
+        v[j] = bj;
         HY_UNROLL
-        for (i = 0; i < j; ++i) b[i] -= a[(size_t)i * HY_NX + j] * bj;
+        for (i = 0; i < j; ++i) v[i] -= a[(size_t)i * HY_NX + j] * bj;
     }
+    HY_UNROLL
+    for (i = 0; i < HY_NX; ++i) b[i] = v[i];
 }
 
 /* ------------------------------------------------------------ sparse LU */
