@@ -67,7 +67,7 @@ def test_full_festo_machine_nothing_more_resolvable(tmp_path, monkeypatch):
     train = [f"{a}#festo_pA_1V", f"{a}#festo_pA_3V", f"{a}#festo_pA_5V", f"{b}#festo_pB_2V", f"{b}#festo_pB_4V"]
     validate = [f"{a}#festo_pA_2V", f"{a}#festo_pA_4V", f"{b}#festo_pB_1V", f"{b}#festo_pB_3V", f"{b}#festo_pB_5V"]
     d = diagnose(ROOT / "machines" / "festo_tp511.yaml", train, validate, Settings(max_effects=1, jobs=2))
-    assert d.data["verdict"] == "none" and d.data["effects"] == []
+    assert d.data["verdict"] == "none" and d.data["effects"] == ["none"]      # DESIGN.md: "none" when nothing is missing
     esr = d.data["esr_validation_final"]
     assert esr["x"] < 0.25 and esr["pA"] < 1.0 and esr["pB"] < 1.0
     assert {"x", "pA", "pB"} <= set(esr)                        # both pressures judged, not just x
