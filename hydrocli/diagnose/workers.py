@@ -38,9 +38,13 @@ def screen_one(job: dict) -> dict:
         # start value only shapes the effect once the amount is there)
         probed = [prm for prm in job["params"] if prm.probe != prm.start]
         idx = [model.param_index(prm.name) for prm in probed]
-        steps = [prm.probe - prm.start for prm in probed]
-        S = residuals.sensitivities(obj, p, idx, steps, r0)
-        res = stats.screen(job["r"], S, job["B"], job["n_eff"])
+        res = None
+        for probe in _probes(probed):
+            steps = [probe[prm.name] - prm.start for prm in probed]
+            S = residuals.sensitivities(obj, p, idx, steps, r0)
+            trial = stats.screen(job["r"], S, job["B"], job["n_eff"])
+            if res is None or trial["dr2"] > res["dr2"]:
+                res = trial
         step = {prm.name: prm.start - c for prm, c in zip(probed, res["coef"])}   # Gauss–Newton step: r ≈ S·coef
         starts = [{prm.name: prm.start for prm in job["params"]}, {prm.name: prm.probe for prm in job["params"]},
                   {prm.name: float(np.clip(step.get(prm.name, prm.start), *_inner(prm.bounds))) for prm in job["params"]}]
@@ -49,6 +53,28 @@ def screen_one(job: dict) -> dict:
                 "starts": starts}
     except Exception as exc:  # a candidate that cannot be built or simulated is reported, not fatal
         return {"key": job["key"], "dr2": 0.0, "t": [], "p_value": 1.0, "error": f"{type(exc).__name__}: {exc}"}
+
+
+def _probes(probed) -> list[dict]:
+    """Where the screening's secant is taken: the declared probe, and — for an effect sized by
+    ONE log-scaled primary whose "off" value is zero (a stiffness, a conductance, an amount of
+    air) — two more sizes a decade and more apart across its plausible range. A compliance's
+    signature is a resonance whose frequency moves with the stiffness: a secant at one size
+    can miss an effect of another size that the fit would find (a rod–load link at 2·10⁷ N/m
+    probed at 10⁷ against 10¹⁰: scored below a mount that then won), so the best of three
+    decides (its Gauss–Newton step is one of the fit's starts)."""
+    out = [{prm.name: prm.probe for prm in probed}]
+    prim = [prm for prm in probed if prm.primary]
+    if len(prim) == 1 and prim[0].log and prim[0].ref == 0 and prim[0].plausible[0] > 0 and not prim[0].scale:
+        q = prim[0]
+        lo, hi = np.log(q.plausible[0]), np.log(q.plausible[1])
+        if hi - lo > np.log(100.0):
+            inner = (q.bounds[0] * 1.05, q.bounds[1] / 1.05)
+            for f in (1 / 6, 1 / 2, 5 / 6):
+                v = float(np.clip(np.exp(lo + f * (hi - lo)), *inner))
+                if all(abs(np.log(v / o[q.name])) > np.log(3.0) for o in out) and len(out) < 3:
+                    out.append({**out[0], q.name: v})
+    return out
 
 
 def _log_grid(params, n: int = 4) -> list[dict]:

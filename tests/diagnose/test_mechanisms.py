@@ -259,3 +259,21 @@ def test_single_rod_cylinder_gets_a_rod_seal_leak_form_and_symmetric_actuators_d
     assert set(p.name for p in rod.params) <= set(build_model(aug).free_params)
     eha = load_netlist(ROOT / "machines" / "eha_testbench.yaml")
     assert not any(c.key.endswith("#rod_seal") for c in catalogue(Context(eha, set(), {}, {}, {}))[0])
+
+
+def test_a_compliance_is_screened_at_more_than_one_size():
+    """One log-scaled primary with a wide plausible range (a stiffness): the declared probe
+    and two more sizes across the range; a shape companion keeps its probe; effects with two
+    primaries or a position (a stop) keep the one probe."""
+    from hydrocli.diagnose.candidates.base import NewParam
+    from hydrocli.diagnose.workers import _probes
+    k = NewParam("link.k", 1.5e10, (1.5e6, 1.5e11), (1.5e6, 7.5e9), 1.1e7, True)
+    c = NewParam("link.c", 100.0, (1.0, 1e5), (1.0, 1e5), 30.0, True, primary=False)
+    probes = _probes([k, c])
+    ks = sorted(pr["link.k"] for pr in probes)
+    assert len(probes) == 3 and all(pr["link.c"] == 30.0 for pr in probes)
+    assert ks[0] < 1.5e7 < 1e8 < ks[1] < ks[2] < 7.5e9 and 1.1e7 in ks
+    two = [k, NewParam("link2.k", 1.5e10, (1.5e6, 1.5e11), (1.5e6, 7.5e9), 1.1e7, True)]
+    assert len(_probes(two)) == 1
+    stop = NewParam("cyl.x_max", 0.3, (0.2, 0.4), (0.2, 0.4), 0.25, scale=0.2)
+    assert len(_probes([stop])) == 1
