@@ -69,7 +69,11 @@ def conditional_stderr(names: list[str], stderr, correlation, given: set[str]) -
 
 
 def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: float, noise: float,
-          later: bool = False, first_gain: float | None = None) -> dict:
+          later: bool = False, first_gain: float | None = None, ceiling: float | None = None) -> dict:
+    """Rules 1–3 for a candidate fitted from a model with validation ESR ``val0`` (summed, %) to
+    ``val1``. ``ceiling``: from a restrained base (:mod:`.restrain`), the free base's validation
+    ESR, which the candidate must not exceed (rule 2 then measures the gain from the
+    restrained base: the plausible explanation must predict as well as the implausible fit)."""
     k = len(cand.params)
     dbic = stats.delta_bic(ssr0, fitres["cost"], n_eff, k)
     gain = val0 - val1
@@ -79,6 +83,8 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
         reasons.append(f"BIC does not improve (ΔBIC = {dbic:+.1f})")
     if not gain > need_:
         reasons.append(f"validation ESR gain {gain:.3g} % is within the noise band ({need_:.3g} %)")
+    if ceiling is not None and not val1 <= ceiling:
+        reasons.append(f"validation ESR {val1:.3g} % above the free base's {ceiling:.3g} %")
     est = dict(zip(fitres["names"], fitres["estimates"]))
     se = conditional_stderr(fitres["names"], fitres["stderr"], fitres.get("correlation"),
                             {p.name for p in cand.params if not p.primary})

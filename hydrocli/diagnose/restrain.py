@@ -15,10 +15,19 @@ beat the free base — low β included — on BIC and on held-out data (``engine
 
 Only the actuators' own bulk modulus (role slot ``bulk_modulus``) is restrained: a hose or a
 volume element may legitimately carry a low effective modulus (wall elasticity).
+
+The same holds for any free parameter the base fit drove to a bound of the file's range after
+moving it more than ×3 (``baseline.MAX_FAR``) from the file's value: the data push it beyond
+what the engineer declared possible, the sign that it stands for something the file lacks (a
+Stribeck velocity widened to its limit imitates a Coulomb force; a valve gain at its limit, a
+leak). It is restrained to within ×3 of the file's value (inside the file's bounds) — the
+tolerance ``baseline.judge`` already accepts as "not far" — and, as for the bulk modulus,
+every candidate tested from there must beat the free base.
 """
 from __future__ import annotations
 
 from ..components import roles as R
+from .baseline import MAX_FAR
 from ..netlist.model import Netlist
 from . import augment
 from .candidates import Context
@@ -26,21 +35,33 @@ from .candidates import Context
 OIL_MIN = 1.0e9   # Pa: the softest effective bulk modulus of oil in a rigid chamber
 
 
-def limits(ctx: Context, estimates: dict[str, float], bounds: dict[str, tuple[float, float]]) \
+def limits(ctx: Context, estimates: dict[str, float], bounds: dict[str, tuple[float, float]],
+           initial: dict[str, float] | None = None, at_bound: set[str] | None = None) \
         -> dict[str, tuple[float, float]]:
-    """Free actuator bulk moduli the base fit left below :data:`OIL_MIN`: name → restrained
-    bounds (``OIL_MIN``, the file's upper bound)."""
+    """name → restrained bounds: free actuator bulk moduli the base fit left below
+    :data:`OIL_MIN` (``OIL_MIN``, the file's upper bound), and parameters ``at_bound`` that moved
+    more than ×``MAX_FAR`` from their ``initial`` (file) value (within ×``MAX_FAR`` of it)."""
     out = {}
     for act in ctx.parts(R.ACTUATOR):
         name = act.param("bulk_modulus")
         if name in estimates and estimates[name] < OIL_MIN and name in bounds:
             out[name] = (OIL_MIN, max(bounds[name][1], 1.5 * OIL_MIN))
+    for name in sorted((at_bound or set()) - set(out)):
+        v, v0 = estimates.get(name, 0.0), (initial or {}).get(name, 0.0)
+        if name in bounds and v > 0 and v0 > 0 and max(v / v0, v0 / v) > MAX_FAR:
+            lo, hi = bounds[name]
+            out[name] = (max(lo, v0 / MAX_FAR), min(hi, v0 * MAX_FAR))
     return out
 
 
-def apply(net: Netlist, lim: dict[str, tuple[float, float]]) -> Netlist:
+def apply(net: Netlist, lim: dict[str, tuple[float, float]], wanted: dict[str, float]) -> Netlist:
     """The machine with each restrained parameter free within its restrained bounds, starting
-    at the lower one (the closest plausible value to what the base fit wanted)."""
+    at :func:`start` of what the base fit ``wanted``."""
     for name, (lo, hi) in lim.items():
-        net = augment.free(net, name, lo, (lo, hi))
+        net = augment.free(net, name, start(wanted[name], (lo, hi)), (lo, hi))
     return net
+
+
+def start(wanted: float, lim: tuple[float, float]) -> float:
+    """The restrained value closest to what the free base fit wanted."""
+    return min(max(wanted, lim[0]), lim[1])

@@ -15,6 +15,7 @@ from hydrocli.diagnose import findings, nuisance
 from hydrocli.diagnose.candidates import Context, catalogue
 from hydrocli.diagnose.measurement import with_pressure_sensors
 from hydrocli.diagnose.summary import write_json
+from hydrocli.model.builder import build_model
 from hydrocli.netlist.loader import load_netlist, load_netlist_text
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -238,12 +239,31 @@ def test_actuator_bulk_modulus_below_oil_is_restrained_and_hoses_are_not(tmp_pat
     assert restrain.limits(ctx, {"cylinder.beta": 1.4e9}, bounds) == {}
     lim = restrain.limits(ctx, {"cylinder.beta": 0.63e9, "hose.beta": 0.2e9}, bounds)
     assert lim == {"cylinder.beta": (restrain.OIL_MIN, 2.5e9)}
-    out = restrain.apply(net, lim)
+    out = restrain.apply(net, lim, {"cylinder.beta": 0.63e9})
     from hydrocli.model.builder import build_model
     m = build_model(out)
     info = m.params[m.param_index("cylinder.beta")]
     assert info.bounds == (restrain.OIL_MIN, 2.5e9) and info.value == restrain.OIL_MIN
     assert "cylinder.beta" in m.free_params
+
+
+def test_a_value_pushed_to_a_bound_far_from_the_files_is_restrained_near_the_file():
+    """A Stribeck velocity the base fit widened ×15 to its upper bound (imitating a Coulomb
+    force) is restrained to within ×3 of the file's value; one at a bound but near the file's
+    value, one far but inside its range, and an optional term at its natural zero are not."""
+    from hydrocli.diagnose import restrain
+    net = load_netlist(ROOT / "machines" / "eha_testbench.yaml")
+    ctx = Context(net, set(), {}, {}, {})
+    bounds = {"friction.vs_p": (1e-4, 5e-2), "friction.ks_m": (0.0, 2000.0), "valve.tau": (1e-3, 5e-3),
+              "cylinder.c_el": (0.0, 1e-10)}
+    initial = {"friction.vs_p": 3.41e-3, "friction.ks_m": 39.4, "valve.tau": 4e-3, "cylinder.c_el": 0.0}
+    est = {"friction.vs_p": 5e-2, "friction.ks_m": 340.0, "valve.tau": 5e-3, "cylinder.c_el": 0.0}
+    at = {"friction.vs_p", "valve.tau", "cylinder.c_el"}
+    lim = restrain.limits(ctx, est, bounds, initial, at)
+    assert lim == {"friction.vs_p": pytest.approx((3.41e-3 / 3, 3.41e-3 * 3))}
+    m = build_model(restrain.apply(net, lim, est))
+    info = m.params[m.param_index("friction.vs_p")]
+    assert info.value == pytest.approx(3.41e-3 * 3) and "friction.vs_p" in m.free_params
 
 
 def test_single_rod_cylinder_gets_a_rod_seal_leak_form_and_symmetric_actuators_do_not():
