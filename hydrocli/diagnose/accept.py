@@ -14,7 +14,8 @@
    needed fits alike), so they must be plausible but need not be precise — and the primaries'
    standard errors are taken GIVEN the companions (:func:`conditional_stderr`): how much air
    there is is determined for a given law even when the amount trades off against the law's
-   shape (more air that dissolves sooner).
+   shape (more air that dissolves sooner). A stop fitted beyond the positions recorded is not
+   engaged (the data bound it from one side only) and is not judged; one stop must be engaged.
 """
 from __future__ import annotations
 
@@ -88,9 +89,12 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
     est = dict(zip(fitres["names"], fitres["estimates"]))
     se = conditional_stderr(fitres["names"], fitres["stderr"], fitres.get("correlation"),
                             {p.name for p in cand.params if not p.primary})
-    plausible_any = False
+    plausible_any, engaged = False, []
     for p in cand.params:
         v, s = est[p.name], se[p.name]
+        if p.primary and p.reach and not p.reach[0] <= v <= p.reach[1]:
+            continue          # a stop beyond the positions recorded: not engaged, not judged
+        engaged.append(p.primary)
         at_bound = _at_bound(v, p.bounds, p.log)
         size = abs(v - p.ref)
         inside = p.plausible[0] <= (v if p.scale else size) <= p.plausible[1]
@@ -100,7 +104,9 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
         dev = p.scale or size
         if p.primary and inside and np.isfinite(s) and dev > 0 and s / dev > MAX_REL_SE:
             reasons.append(f"{p.name} poorly determined (±{100 * s / dev:.0f} % of its effect)")
-    if not plausible_any:
+    if not any(engaged):
+        reasons.append("no stop engaged within the positions recorded")
+    elif not plausible_any:
         vals = ", ".join(f"{p.name} = {est[p.name]:.3g}" for p in cand.params if p.primary)
         reasons.append(f"no new parameter in its plausible range ({vals})")
     return {"delta_bic": dbic, "validation_gain": gain, "noise_band": need_, "passed": not reasons,

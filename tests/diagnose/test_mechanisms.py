@@ -297,3 +297,27 @@ def test_a_compliance_is_screened_at_more_than_one_size():
     assert len(_probes(two)) == 1
     stop = NewParam("cyl.x_max", 0.3, (0.2, 0.4), (0.2, 0.4), 0.25, scale=0.2)
     assert len(_probes([stop])) == 1
+
+
+def test_a_stop_fitted_beyond_the_recorded_positions_is_not_judged_but_one_must_be_engaged():
+    """The Festo rig reaches its extended stop only: the retracted stop's fitted position lies
+    beyond the positions recorded, bounded from one side, its standard error no test of the
+    effect. An effect whose stops are both beyond the record is not found."""
+    from hydrocli.diagnose.accept import judge
+    from hydrocli.diagnose.candidates.base import NewParam
+    reach = (-0.004, 0.204)
+    params = [NewParam("c.x_min", -0.04, (-0.1, 0.004), (-0.1, 0.004), -0.001, scale=0.2, reach=reach),
+              NewParam("c.x_max", 0.24, (0.196, 0.3), (0.196, 0.3), 0.201, scale=0.2, reach=reach),
+              NewParam("c.k", 1e8, (1e5, 1e11), (1e5, 1e11), 3e8, True, primary=False)]
+    cand = SimpleNamespace(params=params)
+
+    def fit(x_min, x_max):
+        return {"names": ["c.x_min", "c.x_max", "c.k"], "estimates": [x_min, x_max, 1e10],
+                "stderr": [0.4, 0.0005, 1e12], "cost": 0.5}
+    ok = judge(cand, fit(-0.084, 0.1967), 1.0, 1000, 10.0, 1.0, 0.1)
+    assert ok["passed"], ok["reasons"]
+    # the same ±0.4 m on a stop INSIDE the record is a poorly determined effect
+    bad = judge(cand, fit(-0.002, 0.1967), 1.0, 1000, 10.0, 1.0, 0.1)
+    assert any("c.x_min poorly determined" in r for r in bad["reasons"])
+    none_ = judge(cand, fit(-0.084, 0.26), 1.0, 1000, 10.0, 1.0, 0.1)
+    assert "no stop engaged within the positions recorded" in none_["reasons"]

@@ -45,6 +45,9 @@ class NewParam:
     scale: float = 0.0                     # > 0: a position-like parameter with no "off" value (a stop):
                                            # ``plausible`` bounds the value itself and the standard error
                                            # is judged against this length (the stroke seen), not |value − ref|
+    reach: tuple[float, float] = ()        # a stop's: the positions recorded (± margin). Fitted outside
+                                           # them it is not engaged: only bounded from one side, its
+                                           # standard error is no test of the effect (accept.judge)
 
 
 @dataclass

@@ -113,10 +113,14 @@ class CylinderFamily(Family):
         span = max(hi - lo, 1e-3)
         # stop positions have no "off" value: judged as positions (plausible range of the value,
         # standard error against the stroke seen)
+        # a stop fitted more than a tenth of the stroke beyond every recorded position is not
+        # touched by a trajectory that matches the record (closer, it may be: windows clip the
+        # last millimetres, the contact compresses): accept.judge does not judge its precision
+        reach = (lo - 0.1 * span, hi + 0.1 * span)
         params = [NewParam(lo_n, lo - 0.2 * span, (lo - 0.5 * span, lo + 0.02 * span),
-                           (lo - 0.5 * span, lo + 0.02 * span), lo - 0.005 * span, scale=span),
+                           (lo - 0.5 * span, lo + 0.02 * span), lo - 0.005 * span, scale=span, reach=reach),
                   NewParam(hi_n, hi + 0.2 * span, (hi - 0.02 * span, hi + 0.5 * span),
-                           (hi - 0.02 * span, hi + 0.5 * span), hi + 0.005 * span, scale=span),
+                           (hi - 0.02 * span, hi + 0.5 * span), hi + 0.005 * span, scale=span, reach=reach),
                   # contact stiffness identified too (log scale): a real stop (Hertz/Hunt–Crossley
                   # contact) is far from one fixed linear spring
                   NewParam(k_n, 1e8, (1e5, 1e11), (1e5, 1e11), 3e8, True, primary=False)]
