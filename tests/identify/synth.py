@@ -62,3 +62,22 @@ def write_csv(path, exp, model):
     data = np.column_stack([exp.t_out, U] + [exp.measured[o] for o in ("P1", "P2", "x", "v")])
     np.savetxt(path, data, delimiter=",", header=",".join(cols), comments="", fmt="%.9g")
     return path
+
+
+# Two first-order lags in series, gain k of the first and time constant of the second free:
+# the small machine of the fit, profile and model-error tests (closed-form step responses).
+LAG = """
+name: lag
+inputs: {u: {unit: "1"}}
+components:
+  lag:
+    type: first_order_lag
+    ports: {in: u, out: y}
+    tau: 0.05
+    k: {value: 1.5, free: true, bounds: [0.1, 10]}
+  lag2:
+    type: first_order_lag
+    ports: {in: y, out: z}
+    tau: {value: 0.02, free: true, bounds: [0.001, 1]}
+outputs: {z: lag2.y}
+"""

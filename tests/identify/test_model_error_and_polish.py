@@ -12,21 +12,7 @@ from hydrocli.identify.uncertainty import N_WINDOWS, WINDOW_ALPHA, window_sums
 from hydrocli.runner import load_machine
 from hydrocli.solve.simulate import InputTable, SolverOptions, simulate
 
-LAG = """
-name: lag
-inputs: {u: {unit: "1"}}
-components:
-  lag:
-    type: first_order_lag
-    ports: {in: u, out: y}
-    tau: 0.05
-    k: {value: 1.5, free: true, bounds: [0.1, 10]}
-  lag2:
-    type: first_order_lag
-    ports: {in: y, out: z}
-    tau: {value: 0.02, free: true, bounds: [0.001, 1]}
-outputs: {z: lag2.y}
-"""
+from synth import LAG  # noqa: E402  (two first-order lags in series, k and tau free)
 LIMIT = np.sqrt(stats.chi2.ppf(1 - WINDOW_ALPHA, N_WINDOWS - 1) / (N_WINDOWS - 1))
 
 
