@@ -93,8 +93,11 @@ def console_summary(diag) -> str:
                      f"well (ΔBIC {amb['delta_bic'][0]:+.0f} against {amb['delta_bic'][1]:+.0f}).")
         if prop:
             z = ", ".join(f"{o} {v:.1f} σ" for o, v in sorted(prop["z"].items(), key=lambda kv: -kv[1])[:3])
+            held = prop.get("discrimination_held")
+            how = (f" even after re-fitting {b.replace('_', ' ')} to it (χ² {prop['discrimination']:.3g}; "
+                   f"{held:.3g} with both held at their fits)") if held is not None else ""
             lines.append(f"  A test that separates them: {prop['description']} ({prop.get('file', '')}); predicted "
-                         f"difference between the two models: {z}. Record it and diagnose again with it added.")
+                         f"difference between the two models: {z}{how}. Record it and diagnose again with it added.")
     if not d["accepted"] and d["verdict"] == "unexplained_mismatch":
         u = d.get("unexplained", {})
         outs = ", ".join(f"{o} {v['esr_validation']:.3g} % (noise {v['noise_floor']:.2g} %)"

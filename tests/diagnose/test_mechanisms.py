@@ -7,6 +7,7 @@ import math
 from pathlib import Path
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 from hydrocli.components import registry
@@ -321,3 +322,57 @@ def test_a_stop_fitted_beyond_the_recorded_positions_is_not_judged_but_one_must_
     assert any("c.x_min poorly determined" in r for r in bad["reasons"])
     none_ = judge(cand, fit(-0.084, 0.26), 1.0, 1000, 10.0, 1.0, 0.1)
     assert "no stop engaged within the positions recorded" in none_["reasons"]
+
+
+LAGS = """
+name: lags
+inputs: {u: {unit: "1"}}
+components:
+  lag:
+    type: first_order_lag
+    ports: {in: u, out: y}
+    tau: 0.05
+    k: {value: 1.5, free: true, bounds: [0.1, 10]}
+  lag2:
+    type: first_order_lag
+    ports: {in: y, out: z}
+    tau: {value: 0.02, free: true, bounds: [0.001, 1]}
+outputs: {z: lag2.y}
+"""
+ONE_LAG = """
+name: one_lag
+inputs: {u: {unit: "1"}}
+components:
+  lag2:
+    type: first_order_lag
+    ports: {in: u, out: z}
+    tau: {value: 0.07, free: true, bounds: [0.001, 1]}
+    k: {value: 1.5, free: true, bounds: [0.1, 10]}
+outputs: {z: lag2.y}
+"""
+
+
+def test_a_design_is_scored_after_the_rival_is_refitted_to_the_winner(tmp_path):
+    """T-optimality (Atkinson & Fedorov 1975): a rival of the SAME structure with another
+    parameter value is told apart by a test only until it is re-fitted — after the refit it
+    predicts the winner's response (discrimination collapses); a rival of another structure
+    (one lag against two in series) still misses the designed test after its refit."""
+    from hydrocli.diagnose import design
+    from hydrocli.experiments.experiment import Experiment
+    from hydrocli.solve.simulate import InputTable, SolverOptions, simulate
+    net = load_netlist_text(LAGS, "lags.yaml")
+    ma = build_model(net)
+    t = np.arange(0, 4.0, 2e-3)
+    u = np.sign(np.sin(2 * np.pi * 0.7 * t)) + 0.5 * np.sin(2 * np.pi * 3.1 * t)
+    y = simulate(ma, InputTable(t, u[:, None]), t, p=ma.p0, opts=SolverOptions(rtol=1e-8)).Y[:, 0]
+    train = [Experiment("train", "<synthetic>", InputTable(t, u[:, None]), t, measured={"z": y}, fit_outputs=["z"])]
+    sigma = {"z": 0.01}
+    q = ma.p0.copy()
+    q[ma.param_index("lag2.tau")] = 0.08
+    same = design.propose(("a", ma, ma.p0), ("b", ma, q), net, train, sigma, tmp_path / "same", "lags",
+                          refit_iterations=10)
+    assert same["discrimination_held"] > 1e3 and same["discrimination"] < 1e-3 * same["discrimination_held"]
+    mb = build_model(load_netlist_text(ONE_LAG, "one_lag.yaml"))
+    other = design.propose(("a", ma, ma.p0), ("b", mb, mb.p0), net, train, sigma, tmp_path / "other", "lags",
+                           refit_iterations=10)
+    assert other["discrimination"] > 100.0 and other["discrimination"] > 10 * same["discrimination"]
