@@ -68,3 +68,20 @@ def test_supply_drop_is_sized_from_the_valve_and_starts_at_the_supply_pressure(e
     model = build_model(c.build(net))
     x0 = model.x0
     assert x0[model.state_index("supply_line.p")] == pytest.approx(100e5)
+
+
+def test_line_candidate_is_a_hose_whose_volume_grows_with_its_length(eha):
+    """The line candidate inserts a π-lumped hose per work port: length primary (inertance,
+    loss and volume together), its effective bulk modulus (oil and wall) a companion; its
+    capacitance is the hose's own A·l/β, not a fixed extra volume."""
+    net, ctx = eha
+    cands, _ = catalogue(ctx)
+    line = next(c for c in cands if c.effect == "line_dynamics")
+    assert [p.primary for p in line.params] == [True, False, True, False]
+    assert [p.name.rsplit(".", 1)[1] for p in line.params] == ["l", "beta", "l", "beta"]
+    aug = line.build(net)
+    hoses = {n: d for n, d in aug.components.items() if d.type == "hose"}
+    assert len(hoses) == 2 and not any(d.type == "volume" and n.startswith("valve_port") for n, d in aug.components.items())
+    model = build_model(aug)
+    for name in hoses:
+        assert f"{name}.l" in model.free_params and f"{name}.beta" in model.free_params

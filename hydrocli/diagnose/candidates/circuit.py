@@ -1,6 +1,6 @@
 """Circuit effects between the components: line dynamics between each valve work port and
-its cylinder chamber (a fluid line with inertance and laminar loss, plus the line's volume
-at the valve end; seed 001 eqs. 7, 11; seed 002 §3) and a supply pressure drop (an orifice
+its actuator chamber (a hose with inertance, laminar loss and its own compliant volume, one
+π lump; seed 001 eqs. 7, 11; seed 002 §2b, §3) and a supply pressure drop (an orifice
 and a volume between the pressure source and the valve; seed 004's supply droop)."""
 from __future__ import annotations
 
@@ -32,20 +32,25 @@ class CircuitFamily(Family):
         params, plan = [], []
         for vp, node in pairs:
             line = A.unique_name(ctx.net, f"{valve}_line_{vp}")
-            vol = A.unique_name(ctx.net, f"{valve}_port_{vp}")
             new = A.unique_name(ctx.net, f"{node}_valve")
+            # a hose of 10 mm bore: its length sets inertance ρl/A, laminar loss 128μl/(πd⁴) and
+            # volume A·l together; its effective bulk modulus (oil AND wall: a rubber hose is
+            # 0.2–1 GPa, a steel pipe near oil's) sets how much of that volume is compliance —
+            # a companion, since hoses of one bore differ in wall stiffness (SAE 100R1 to R12)
             params.append(NewParam(f"{line}.l", 0.05, (0.01, 20.0), (0.2, 20.0), 2.0, True))
-            plan.append((vp, new, node, line, vol))
+            params.append(NewParam(f"{line}.beta", 1.0e9, (5e7, 2.5e9), (1e8, 2.5e9), 1.0e9, True, primary=False))
+            plan.append((vp, new, node, line))
 
         def build(net):
-            for vp, new, node, line, vol in plan:
+            for vp, new, node, line in plan:
                 net = A.connect(net, valve, vp, new)
-                net = A.add(net, vol, "volume", {"P": new}, {"V": 2e-5})
-                net = A.add(net, line, "fluid_line", {"A": new, "B": node}, {"d": 0.01})
+                # π arrangement: half the hose's capacitance at each end, so the valve-side node
+                # is well posed on its own (seed 002 §2b)
+                net = A.add(net, line, "hose", {"A": new, "B": node}, {"d": 0.01, "arrangement": 0})
             net = A.free_new(net, params)
-            return _initial_like(net, [(new, node) for _, new, node, _, _ in plan])
+            return _initial_like(net, [(new, node) for _, new, node, _ in plan])
         return Candidate("line_dynamics", valve, params, build, "continuity",
-                         f"hoses between '{valve}' and the cylinder: inertance, loss and volume")
+                         f"hoses between '{valve}' and the actuator: inertance, loss and compliant volume")
 
     @staticmethod
     def _supply(ctx: Context, valve: str, node: str | None):
