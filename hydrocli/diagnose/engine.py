@@ -49,7 +49,7 @@ class Settings:
     max_effects: int = 3
     jobs: int = 2
     top: int = 3                 # effects re-identified per round (their best-screening forms)
-    base_evals: int = 30         # optimiser iterations (f-evaluations) of the base fit
+    base_evals: int = 100        # optimiser iterations of the base fit (it stops earlier when converged)
     candidate_evals: int = 15
     window_s: float = 0.5
     only: tuple[str, ...] = ()   # restrict the catalogue to these effects (empty: all)

@@ -108,6 +108,10 @@ class _Tracker:
             self.progress(self.n_sims, cost, self.best_cost)
 
 
+RESTARTS = 2          # least squares restarted at most this often after a step-size (xtol) stop …
+RESTART_GAIN = 0.01   # … that followed a cost decrease of at least this fraction
+
+
 def fit(model: Model, experiments: list[Experiment], free: list[str] | None = None, **kw) -> FitResult:
     """``workers`` > 1 evaluates finite-difference Jacobian columns in that many threads
     (the compiled solver releases the GIL); the result does not depend on it. ``gradient``:
@@ -180,9 +184,17 @@ def _fit(model: Model, experiments: list[Experiment], free: list[str] | None = N
     interrupted, message = False, ""
     try:
         if method == "least-squares":
-            sol = optimize.least_squares(fun, z0, jac=jac, bounds=(0.0, 1.0), method="trf", x_scale=1.0,
-                                         max_nfev=max_evals, xtol=1e-6, ftol=FTOL)
-            message = sol.message
+            z_run, c_run = z0, cost0
+            for restart in range(1 + RESTARTS):
+                sol = optimize.least_squares(fun, z_run, jac=jac, bounds=(0.0, 1.0), method="trf", x_scale=1.0,
+                                             max_nfev=max_evals, xtol=1e-6, ftol=FTOL)
+                message = sol.message + (f" (after {restart} restart{'s' * (restart > 1)})" if restart else "")
+                # a step-size stop (xtol) right after progress is the trust region collapsing on a
+                # Jacobian that is only as accurate as the integration (forward sensitivities at a
+                # loose tolerance, stick-slip): restarted from the best point with a fresh radius
+                if sol.status != 3 or tracker.best_z is None or not tracker.best_cost < (1 - RESTART_GAIN) * c_run:
+                    break
+                z_run, c_run = tracker.best_z.copy(), tracker.best_cost
         elif method == "nelder-mead":
             sol = optimize.minimize(scalar, z0, method="Nelder-Mead", bounds=[(0, 1)] * len(z0),
                                     options={"maxfev": max_evals, "xatol": 1e-5, "fatol": 1e-10, "adaptive": True})
