@@ -153,17 +153,21 @@ def _opts():
     return replace(OPTS, max_step=MAX_STEP)
 
 
-def _discrimination(ma, ya, mb, yb, noise_sigma: dict[str, float]) -> tuple[float, dict, dict]:
-    """Σ_o N·(RMS(ŷ_a − ŷ_b)/σ_o)², and per output the RMS difference (SI) and RMS/σ."""
-    diff, z, score = {}, {}, 0.0
+def _discrimination(ma, ya, mb, yb, noise_sigma: dict[str, float]) -> tuple[float, dict, dict, float]:
+    """Σ_o N·(RMS(ŷ_a − ŷ_b)/σ_o)², per output the RMS difference (SI) and RMS/σ, and the ESR
+    gap Σ_o 100·mean((ŷ_a − ŷ_b)²)/var(ŷ_a): how much worse than ``a`` model ``b`` would score
+    on the test if ``a`` were right — the measure the diagnosis decides on (engine._separated)."""
+    diff, z, score, gap = {}, {}, 0.0, 0.0
     for o, s in noise_sigma.items():
         if o not in ma.output_names or o not in mb.output_names or not s > 0:
             continue
-        dy = ya[:, ma.output_names.index(o)] - yb[:, mb.output_names.index(o)]
+        ref = ya[:, ma.output_names.index(o)]
+        dy = ref - yb[:, mb.output_names.index(o)]
         rms = float(np.sqrt(np.mean(dy ** 2)))
         diff[o], z[o] = rms, rms / s
         score += dy.size * (rms / s) ** 2
-    return score, diff, z
+        gap += 100.0 * rms ** 2 / max(float(np.var(ref)), 1e-300)
+    return score, diff, z, gap
 
 
 def _after_refit(a, b, train, eb, ya, noise_sigma: dict[str, float], iterations: int):
@@ -180,11 +184,19 @@ def _after_refit(a, b, train, eb, ya, noise_sigma: dict[str, float], iterations:
 
 
 def propose(a, b, net, train, noise_sigma: dict[str, float], workdir: Path, machine_name: str,
-            refit_iterations: int = 0) -> dict | None:
+            refit_iterations: int = 0, band: float | None = None) -> dict | None:
     """The design that separates the fitted candidates ``a`` and ``b`` best. Each is
     (name, model, p). Returns {"name", "description", "text", "discrimination",
-    "predicted_difference": {output: RMS difference in SI}, "z": {output: RMS/σ}} or None;
-    with ``refit_iterations`` also "discrimination_held" (see the module docstring)."""
+    "predicted_difference": {output: RMS difference in SI}, "z": {output: RMS/σ},
+    "esr_gap": summed ESR % by which b would miss a's prediction} or None; with
+    ``refit_iterations`` also "discrimination_held" (see the module docstring); with ``band``
+    (the noise band the diagnosis decides with) "decisive": whether the chosen test's ESR gap
+    exceeds it — if not, recording it will not let the re-diagnosis tell them apart, and the
+    pair is honestly undecidable with these tests. The test is chosen by χ², not by the ESR
+    gap: a test at standstill has a tiny output variance, so a small difference is a large
+    ESR gap there, but its recording is mostly noise and, weighted by that small variance in
+    the ESR-scaled fit, it would dominate the re-identification (measured: air then no
+    longer identifiable at all)."""
     from ..experiments.experiment_file import load_experiment_file
     (_, ma, pa), (_, mb, pb) = a, b
     scored = []
@@ -200,21 +212,21 @@ def propose(a, b, net, train, noise_sigma: dict[str, float], workdir: Path, mach
         ya, yb = _simulate(ma, pa, ea), _simulate(mb, pb, eb)
         if ya is None or yb is None:
             continue
-        score, diff, z = _discrimination(ma, ya, mb, yb, noise_sigma)
+        score, diff, z, gap = _discrimination(ma, ya, mb, yb, noise_sigma)
         scored.append(({"name": d.name, "description": d.description, "text": text, "discrimination": score,
-                        "predicted_difference": diff, "z": z}, eb, ya))
+                        "predicted_difference": diff, "z": z, "esr_gap": gap}, eb, ya))
     if not scored:
         return None
     scored.sort(key=lambda x: -x[0]["discrimination"])
-    if refit_iterations <= 0:
-        return scored[0][0]
-    best = None
-    for prop, eb, ya in scored[:REFIT_TOP]:
+    best = scored[0][0] if refit_iterations <= 0 else None
+    for prop, eb, ya in (scored[:REFIT_TOP] if refit_iterations > 0 else []):
         after = _after_refit(a, b, train, eb, ya, noise_sigma, refit_iterations)
         if after is None:
             continue
         prop = dict(prop, discrimination_held=prop["discrimination"], discrimination=after[0],
-                    predicted_difference=after[1], z=after[2])
+                    predicted_difference=after[1], z=after[2], esr_gap=after[3])
         if best is None or prop["discrimination"] > best["discrimination"]:
             best = prop
+    if best is not None and band is not None:
+        best = dict(best, band=band, decisive=bool(best["esr_gap"] > band))
     return best

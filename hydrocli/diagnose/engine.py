@@ -365,7 +365,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     rival = next(((d2, c2, f2) for d2, c2, f2 in passing[1:] if c2.effect != c.effect
                   and d2 <= close and not _separated(f, f2, band)), None)
     if rival is not None:
-        out.ambiguous = _ambiguous(su, (dbic_best, c, f), rival, texts, progress, st.candidate_evals)
+        out.ambiguous = _ambiguous(su, (dbic_best, c, f), rival, texts, progress, st.candidate_evals, band)
     new, f = _polish(su, stage, c, texts[c.key], f, n_eff, st, progress)
     row = next(rw for rw in out.rows if rw["effect"] == c.effect and rw["component"] == c.component)
     out.accepted = {"key": c.key, "effect": c.effect, "component": c.component, "source": "candidate",
@@ -475,7 +475,8 @@ def _separated(f: dict, f2: dict, band: float) -> bool:
     return any(abs(g) >= band for g in gaps)
 
 
-def _ambiguous(su: Setup, win, rival, texts: dict, progress, refit_iterations: int = 0) -> dict:
+def _ambiguous(su: Setup, win, rival, texts: dict, progress, refit_iterations: int = 0,
+               band: float | None = None) -> dict:
     """Two candidates the data cannot tell apart, and the test that would (:mod:`.design`)."""
     import tempfile
     models = []
@@ -485,7 +486,7 @@ def _ambiguous(su: Setup, win, rival, texts: dict, progress, refit_iterations: i
     _log(progress, f"  {win[1].effect} and {rival[1].effect} fit alike: designing a test that separates them…")
     with tempfile.TemporaryDirectory() as tmp:
         prop = design.propose(models[0], models[1], su.net, su.train, su.noise_sigma, Path(tmp),
-                              Path(su.machine).stem, refit_iterations=refit_iterations)
+                              Path(su.machine).stem, refit_iterations=refit_iterations, band=band)
     entry = {"effects": [win[1].effect, rival[1].effect], "components": [win[1].component, rival[1].component],
              "delta_bic": [win[0], rival[0]],
              "esr_validation_after": [win[2]["esr_validation"], rival[2]["esr_validation"]]}

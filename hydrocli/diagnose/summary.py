@@ -96,8 +96,15 @@ def console_summary(diag) -> str:
             held = prop.get("discrimination_held")
             how = (f" even after re-fitting {b.replace('_', ' ')} to it (χ² {prop['discrimination']:.3g}; "
                    f"{held:.3g} with both held at their fits)") if held is not None else ""
-            lines.append(f"  A test that separates them: {prop['description']} ({prop.get('file', '')}); predicted "
-                         f"difference between the two models: {z}{how}. Record it and diagnose again with it added.")
+            if prop.get("decisive", True):
+                lines.append(f"  A test that separates them: {prop['description']} ({prop.get('file', '')}); predicted "
+                             f"difference between the two models: {z}{how}. Record it and diagnose again with it added.")
+            else:
+                lines.append(f"  No designed test separates them beyond the noise band once {b.replace('_', ' ')} is "
+                             f"re-fitted: the best, {prop['description']} ({prop.get('file', '')}), would leave an ESR "
+                             f"gap of {prop['esr_gap']:.2g} % against a band of {prop['band']:.2g} %{how}. With these "
+                             "inputs the two are not distinguishable; a test at other operating points (pressure "
+                             "levels, loads) is needed.")
     if not d["accepted"] and d["verdict"] == "unexplained_mismatch":
         u = d.get("unexplained", {})
         outs = ", ".join(f"{o} {v['esr_validation']:.3g} % (noise {v['noise_floor']:.2g} %)"

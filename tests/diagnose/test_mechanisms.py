@@ -370,9 +370,24 @@ def test_a_design_is_scored_after_the_rival_is_refitted_to_the_winner(tmp_path):
     q = ma.p0.copy()
     q[ma.param_index("lag2.tau")] = 0.08
     same = design.propose(("a", ma, ma.p0), ("b", ma, q), net, train, sigma, tmp_path / "same", "lags",
-                          refit_iterations=10)
+                          refit_iterations=10, band=0.1)
     assert same["discrimination_held"] > 1e3 and same["discrimination"] < 1e-3 * same["discrimination_held"]
+    assert same["esr_gap"] < 0.01 and not same["decisive"]       # no test can tell them apart
     mb = build_model(load_netlist_text(ONE_LAG, "one_lag.yaml"))
     other = design.propose(("a", ma, ma.p0), ("b", mb, mb.p0), net, train, sigma, tmp_path / "other", "lags",
-                           refit_iterations=10)
+                           refit_iterations=10, band=0.1)
     assert other["discrimination"] > 100.0 and other["discrimination"] > 10 * same["discrimination"]
+    assert other["esr_gap"] > 1.0 and other["decisive"]
+    # the ESR gap is the one-lag model's ESR on the two-lag chain's noise-free prediction
+    assert other["esr_gap"] == pytest.approx(sum(100 * (d / s) ** 2 * s ** 2 for d, s in
+                                                 zip(other["predicted_difference"].values(), sigma.values()))
+                                             / np.var(_two_lag_response(ma, other["text"], tmp_path)), rel=1e-6)
+
+
+def _two_lag_response(model, text, tmp_path):
+    """The winner's prediction of a proposed design, simulated the way the design module does."""
+    from hydrocli.diagnose import design
+    from hydrocli.experiments.experiment_file import load_experiment_file
+    path = tmp_path / "proposal.yaml"
+    path.write_text(text)
+    return design._simulate(model, model.p0, load_experiment_file(path, model))[:, 0]
