@@ -391,3 +391,18 @@ def _two_lag_response(model, text, tmp_path):
     path = tmp_path / "proposal.yaml"
     path.write_text(text)
     return design._simulate(model, model.p0, load_experiment_file(path, model))[:, 0]
+
+
+def test_end_stops_already_in_the_file_are_not_offered_as_missing():
+    """The Festo rig's full machine has its steel stops (k_stop 1e8 N/m): where they sit is a
+    parameter of the file, not missing physics, so no end_stop candidate; the same machine
+    without stops gets one."""
+    out = {}
+    for name in ("festo_tp511", "festo_tp511_no_endstops"):
+        net = load_netlist(ROOT / "machines" / f"{name}.yaml")
+        ctx0 = Context(net, set(), {}, {}, {})
+        node = ctx0.parts(R.ACTUATOR)[0].node("motion")
+        cands, skipped = catalogue(Context(net, set(), {node: (0.0, 0.195)}, {}, {}))
+        out[name] = ([c for c in cands if c.effect == "end_stop"], [s for s in skipped if s.effect == "end_stop"])
+    assert not out["festo_tp511"][0] and "already has end stops" in out["festo_tp511"][1][0].reason
+    assert len(out["festo_tp511_no_endstops"][0]) == 1
