@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from hydrocli.diagnose import Settings, diagnose
+from hydrocli.diagnose import Settings, diagnose, residuals
 from hydrocli.diagnose.summary import write_augmented
 from hydrocli.netlist.loader import load_netlist
 
@@ -56,18 +56,30 @@ def test_diagnose_pools_recordings_that_measure_different_chambers(tmp_path, mon
 
 @pytest.mark.slow
 @pytest.mark.skipif(not DATA.is_dir(), reason="shared Festo recordings not available")
-def test_full_festo_machine_nothing_more_resolvable(tmp_path, monkeypatch):
+def test_full_festo_machine_no_missing_physics(tmp_path, monkeypatch):
     """Issue 10 item 4: the rig's FULL machine (end stops and end cushions) on the repeat-1
     step recordings, both pressures trained and held out (pA 1/3/5 V + pB 2/4 V against the
-    rest): the catalogue's best candidates stay within the held-out noise band, so the honest
-    answer is that nothing more is resolvable — and the base model already predicts the
-    held-out recordings closely (docs/festo.md: x < 0.25 %, p < 1 % ESR)."""
+    rest). No PHYSICAL effect (hydraulic, mechanical, valve) passes: the base model already
+    predicts the held-out recordings closely (docs/festo.md: x < 0.25 %, p < 1 % ESR). Since
+    the base fit converges (session 5), the measurement model may be widened: the rig's
+    pressure reading lags beyond a typical transducer's few ms (docs/festo.md: the one sensor
+    is moved between the ports; its B-side reading lags ~12 ms, the measuring connection) —
+    if so, it must be a lag beyond the typical range and improve EVERY held-out pressure
+    recording (a measurement property acts in every run, not in one)."""
     monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path / "cache"))
     a, b = EXP / "steps_pA.yaml", EXP / "steps_pB.yaml"
     train = [f"{a}#festo_pA_1V", f"{a}#festo_pA_3V", f"{a}#festo_pA_5V", f"{b}#festo_pB_2V", f"{b}#festo_pB_4V"]
     validate = [f"{a}#festo_pA_2V", f"{a}#festo_pA_4V", f"{b}#festo_pB_1V", f"{b}#festo_pB_3V", f"{b}#festo_pB_5V"]
     d = diagnose(ROOT / "machines" / "festo_tp511.yaml", train, validate, Settings(max_effects=1, jobs=2))
-    assert d.data["verdict"] == "none" and d.data["effects"] == ["none"]      # DESIGN.md: "none" when nothing is missing
+    assert d.data["effects"] in (["none"], ["sensor_lag"])   # no physics is missing from the full machine
     esr = d.data["esr_validation_final"]
     assert esr["x"] < 0.25 and esr["pA"] < 1.0 and esr["pB"] < 1.0
     assert {"x", "pA", "pB"} <= set(esr)                        # both pressures judged, not just x
+    if d.data["effects"] == ["sensor_lag"]:
+        taus = [p["value"] for p in d.data["accepted"][0]["parameters"]]
+        assert max(taus) > 5e-3                                  # beyond a typical transducer
+        for e, y0, y1 in zip(d.validate, d.base.Y_validation, d.final.Y_validation):
+            q = [o for o in ("pA", "pB") if o in e.measured]
+            before = residuals.esr_table(d.base.model, [e], [y0], q)
+            after = residuals.esr_table(d.final.model, [e], [y1], q)
+            assert all(after[o] < before[o] for o in q), e.name
