@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -18,6 +19,9 @@ from hydrocli.diagnose.measurement import with_pressure_sensors
 from hydrocli.diagnose.summary import write_json
 from hydrocli.model.builder import build_model
 from hydrocli.netlist.loader import load_netlist, load_netlist_text
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "identify"))
+from synth import LAG  # noqa: E402  (two first-order lags in series, k and tau free)
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -324,21 +328,6 @@ def test_a_stop_fitted_beyond_the_recorded_positions_is_not_judged_but_one_must_
     assert "no stop engaged within the positions recorded" in none_["reasons"]
 
 
-LAGS = """
-name: lags
-inputs: {u: {unit: "1"}}
-components:
-  lag:
-    type: first_order_lag
-    ports: {in: u, out: y}
-    tau: 0.05
-    k: {value: 1.5, free: true, bounds: [0.1, 10]}
-  lag2:
-    type: first_order_lag
-    ports: {in: y, out: z}
-    tau: {value: 0.02, free: true, bounds: [0.001, 1]}
-outputs: {z: lag2.y}
-"""
 ONE_LAG = """
 name: one_lag
 inputs: {u: {unit: "1"}}
@@ -360,7 +349,7 @@ def test_a_design_is_scored_after_the_rival_is_refitted_to_the_winner(tmp_path):
     from hydrocli.diagnose import design
     from hydrocli.experiments.experiment import Experiment
     from hydrocli.solve.simulate import InputTable, SolverOptions, simulate
-    net = load_netlist_text(LAGS, "lags.yaml")
+    net = load_netlist_text(LAG, "lags.yaml")
     ma = build_model(net)
     t = np.arange(0, 4.0, 2e-3)
     u = np.sign(np.sin(2 * np.pi * 0.7 * t)) + 0.5 * np.sin(2 * np.pi * 3.1 * t)
