@@ -22,6 +22,23 @@ def min_jerk(s):
     return s ** 3 * (10 - 15 * s + 6 * s * s), 30 * s * s * (1 - s) ** 2
 
 
+def reach(segs: list[tuple], setpoint_max: float) -> list[tuple]:
+    """Moves (t0, T, from, to) with every target clipped at ``setpoint_max`` and the highest
+    move's target set to it: an end-stop case must touch its stop in EVERY experiment, or the
+    effect is absent from the training recording and no diagnosis fitted to it can name it
+    (before this, an EHA case's training stayed 16 mm short of the stop)."""
+    segs = [(t0, T, min(a, setpoint_max), min(b, setpoint_max)) for t0, T, a, b in segs]
+    if not segs or max(b for *_, b in segs) >= setpoint_max:
+        return segs
+    i = max(range(len(segs)), key=lambda k: segs[k][3])
+    t0, T, a, _ = segs[i]
+    segs[i] = (t0, T, a, setpoint_max)
+    if i + 1 < len(segs):
+        t1, T1, _, b1 = segs[i + 1]
+        segs[i + 1] = (t1, T1, setpoint_max, b1)
+    return segs
+
+
 class Excitation:
     """Setpoint, dither, supply and external force of one experiment (seeded)."""
 
@@ -48,7 +65,7 @@ class Excitation:
             t += T + float(rng.uniform(0.2, 0.8))
             x = tgt
         if setpoint_max is not None:
-            segs = [(t0, T, min(a, setpoint_max), min(b, setpoint_max)) for t0, T, a, b in segs]
+            segs = reach(segs, setpoint_max)
         self.segs, self.seg_tl = segs, [s[0] for s in segs]
         nd = 7
         f = np.exp(rng.uniform(math.log(0.5), math.log(18.0), nd))

@@ -170,15 +170,20 @@ def _inputs_start(model, exps) -> dict:
     return {n: float(np.mean([e.inputs.U[0, j] for e in exps])) for j, n in enumerate(model.input_names)}
 
 
-def _position_ranges(model, exps, Ys) -> dict:
+def _output_ranges(model, exps) -> dict[str, tuple[float, float]]:
+    """{position or angle output: (min, max) measured over ``exps``}."""
     out = {}
     for o, k in locate.output_quantities(model).items():
         if k in ("position", "angle"):
             vals = np.concatenate([e.measured[o][residuals.used(e, o)] for e in exps if o in e.measured]
                                   or [np.zeros(1)])
-            for s in augment.output_symbols_expr(model, o):
-                out[s] = (float(np.min(vals)), float(np.max(vals)))
+            out[o] = (float(np.min(vals)), float(np.max(vals)))
     return out
+
+
+def _position_ranges(model, exps, Ys) -> dict:
+    """{model symbol a position/angle output reads: its measured (min, max)}."""
+    return {s: r for o, r in _output_ranges(model, exps).items() for s in augment.output_symbols_expr(model, o)}
 
 
 # -- step 1 -------------------------------------------------------------------------------
@@ -540,7 +545,8 @@ def conclude(su: Setup, b: Baseline, final: Stage, accepted: list[dict], ranking
         "runtime_s": time.perf_counter() - t_start,
     }
     if mismatch:
-        data["unexplained"] = mismatch
+        beyond = findings.beyond_training(_output_ranges(su.model, su.train), _output_ranges(su.model, su.validate))
+        data["unexplained"] = {**mismatch, **({"beyond_training": beyond} if beyond else {})}
     if b.restrained is not None:
         rs = b.restrained
         data["restrained_base"] = {

@@ -11,7 +11,11 @@
 * **Unexplained mismatch**. Nothing passes, yet some output's validation ESR stays above its
   noise floor by more than ``MISMATCH_ESR`` and by more than the floor itself: the model is
   missing something the catalogue cannot express. Said so, with where it lies (outputs,
-  regimes, windows), never a bare ``none``.
+  regimes, windows), never a bare ``none``. When the held-out recordings move beyond the
+  positions the training recordings cover (:func:`beyond_training`), that is said too: what
+  is missing may act only where training never went (an end stop, a position-dependent
+  load), and no fit to the training data can find it — a training recording over that range
+  is what is needed.
 """
 from __future__ import annotations
 
@@ -21,6 +25,7 @@ import numpy as np
 
 Z_MIN = 3.0          # a finding must sit this many (inflated) standard errors from "off"
 MISMATCH_ESR = 1.0   # % validation ESR above the noise floor that the benchmark calls detectable
+BEYOND = 0.05        # held-out positions further than this share of the training span outside it
 
 
 @dataclass(frozen=True)
@@ -91,3 +96,17 @@ def unexplained(esr_validation: dict, noise: dict, located: dict) -> dict | None
                         for o in sorted(outs, key=lambda k: -outs[k])},
             "regimes": [r for r in located.get("regimes", []) if r.get("concentration", 0) > 1.2][:3],
             "windows": located.get("windows", [])[:3]}
+
+
+def beyond_training(train: dict[str, tuple[float, float]], validate: dict[str, tuple[float, float]]) -> dict:
+    """{position/angle output: {"train": [lo, hi], "validate": [lo, hi]}} for the outputs whose
+    held-out range leaves the training range by more than ``BEYOND`` of the training span."""
+    out = {}
+    for o, (vlo, vhi) in validate.items():
+        if o not in train:
+            continue
+        tlo, thi = train[o]
+        margin = BEYOND * max(thi - tlo, 0.0)
+        if vhi > thi + margin or vlo < tlo - margin:
+            out[o] = {"train": [tlo, thi], "validate": [vlo, vhi]}
+    return out

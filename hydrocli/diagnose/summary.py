@@ -113,6 +113,11 @@ def console_summary(diag) -> str:
         lines.append(f"Unexplained mismatch: no candidate passes, yet the validation error stays above the noise in "
                      f"{outs}" + (f", concentrated in {regs}" if regs else "") + ". The model misses something the "
                      "catalogue cannot express (or a fixed parameter is far off).")
+        for o, r in u.get("beyond_training", {}).items():
+            lines.append(f"  The held-out recordings reach {o} {r['validate'][0]:.4g} … {r['validate'][1]:.4g}, beyond "
+                         f"the training's {r['train'][0]:.4g} … {r['train'][1]:.4g}: what is missing may act only "
+                         "where training never went (an end stop, a position-dependent load) — no fit to these "
+                         "training data can find it. Add a training recording that covers that range.")
     elif not d["accepted"]:
         best = d["ranking"][0] if d["ranking"] else None
         tail = f" (best candidate {best['effect']}: {'; '.join(best.get('reasons', [])) or 'not re-identified'})" \

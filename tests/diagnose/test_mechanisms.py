@@ -395,3 +395,20 @@ def test_end_stops_already_in_the_file_are_not_offered_as_missing():
         out[name] = ([c for c in cands if c.effect == "end_stop"], [s for s in skipped if s.effect == "end_stop"])
     assert not out["festo_tp511"][0] and "already has end stops" in out["festo_tp511"][1][0].reason
     assert len(out["festo_tp511_no_endstops"][0]) == 1
+
+
+def test_an_unexplained_mismatch_says_when_held_out_positions_leave_the_training_range():
+    """A stop touched only in the held-out recording cannot be found by fitting the training
+    one: the summary says where the held-out data go beyond training, and only then."""
+    from hydrocli.diagnose.summary import console_summary
+    assert findings.beyond_training({"x": (0.046, 0.1125)}, {"x": (0.059, 0.1288)}) == \
+        {"x": {"train": [0.046, 0.1125], "validate": [0.059, 0.1288]}}
+    assert findings.beyond_training({"x": (0.046, 0.1125)}, {"x": (0.05, 0.115)}) == {}   # within 5 % of the span
+    assert findings.beyond_training({"x": (0.0, 1.0)}, {"x": (-0.2, 0.5)})                # below as well
+    d = {"accepted": [], "verdict": "unexplained_mismatch", "effects": ["none"], "runtime_s": 1.0, "ranking": [],
+         "located": {"outputs": {}, "regimes": []}, "base_parameters": [], "measurement_model": {},
+         "nuisance_parameters": {},
+         "unexplained": {"outputs": {"P2": {"esr_validation": 3.2, "noise_floor": 0.35}}, "regimes": [],
+                         "beyond_training": {"x": {"train": [0.046, 0.1125], "validate": [0.059, 0.1288]}}}}
+    text = console_summary(SimpleNamespace(data=d))
+    assert "beyond the training's 0.046 … 0.1125" in text and "Add a training recording" in text
