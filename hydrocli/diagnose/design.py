@@ -153,14 +153,18 @@ def _opts():
     return replace(OPTS, max_step=MAX_STEP)
 
 
+def _compared(ma, mb, noise_sigma: dict[str, float]) -> list[str]:
+    """Outputs both models have and whose measurement noise is known."""
+    return [o for o, s in noise_sigma.items() if o in ma.output_names and o in mb.output_names and s > 0]
+
+
 def _discrimination(ma, ya, mb, yb, noise_sigma: dict[str, float]) -> tuple[float, dict, dict, float]:
     """Σ_o N·(RMS(ŷ_a − ŷ_b)/σ_o)², per output the RMS difference (SI) and RMS/σ, and the ESR
     gap Σ_o 100·mean((ŷ_a − ŷ_b)²)/var(ŷ_a): how much worse than ``a`` model ``b`` would score
     on the test if ``a`` were right — the measure the diagnosis decides on (engine._separated)."""
     diff, z, score, gap = {}, {}, 0.0, 0.0
-    for o, s in noise_sigma.items():
-        if o not in ma.output_names or o not in mb.output_names or not s > 0:
-            continue
+    for o in _compared(ma, mb, noise_sigma):
+        s = noise_sigma[o]
         ref = ya[:, ma.output_names.index(o)]
         dy = ref - yb[:, mb.output_names.index(o)]
         rms = float(np.sqrt(np.mean(dy ** 2)))
@@ -176,7 +180,7 @@ def _after_refit(a, b, train, eb, ya, noise_sigma: dict[str, float], iterations:
     misses of that prediction."""
     from . import baseline
     (_, ma, _), (_, mb, pb) = a, b
-    outs = [o for o, s in noise_sigma.items() if o in ma.output_names and o in mb.output_names and s > 0]
+    outs = _compared(ma, mb, noise_sigma)
     synth = replace(eb, measured={o: ya[:, ma.output_names.index(o)] for o in outs}, mask={}, fit_outputs=outs)
     res = baseline.identify(mb, list(train) + [synth], p_start=pb, iterations=iterations, opts=_opts())
     yb = _simulate(mb, res.p, synth)

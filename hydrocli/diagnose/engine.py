@@ -181,7 +181,7 @@ def _output_ranges(model, exps) -> dict[str, tuple[float, float]]:
     return out
 
 
-def _position_ranges(model, exps, Ys) -> dict:
+def _position_ranges(model, exps) -> dict:
     """{model symbol a position/angle output reads: its measured (min, max)}."""
     return {s: r for o, r in _output_ranges(model, exps).items() for s in augment.output_symbols_expr(model, o)}
 
@@ -231,25 +231,23 @@ def baseline_step(su: Setup, st: Settings, progress=None) -> Baseline:
     for f in found:
         _log(progress, f"  the base fit found {f['effect']} on '{f['component']}' "
                        f"(validation gain {f['validation_gain']:.3g} % > {f['noise_band']:.3g} %)")
-    lim = restrain.limits(_context(su, base), dict(zip(res0.names, res0.estimates)), _bounds(model, res0.names),
-                          dict(zip(res0.names, res0.initial)), _at_bound(model, res0))
+    bounds, at_bound = _bounds(model, res0)
+    lim = restrain.limits(_context(su, base), dict(zip(res0.names, res0.estimates)), bounds,
+                          dict(zip(res0.names, res0.initial)), at_bound)
     restrained = _restrained(su, base, lim, st, progress) if lim else None
     return Baseline(base, res0, judged, where, white, found, n_eff, restrained, lim)
 
 
-def _at_bound(model, res) -> set[str]:
+def _bounds(model, res) -> tuple[dict[str, tuple[float, float]], set[str]]:
+    """The fit's free parameters' bounds, and those its estimates ended at."""
     from ..identify.transforms import FreeParameters
-    return set(FreeParameters.from_model(model, res.names).at_bound(res.estimates))
-
-
-def _bounds(model, names) -> dict:
-    from ..identify.transforms import FreeParameters
-    fp = FreeParameters.from_model(model, names)
-    return {n: (float(lo), float(hi)) for n, lo, hi in zip(names, fp.lo, fp.hi)}
+    fp = FreeParameters.from_model(model, res.names)
+    return ({n: (float(lo), float(hi)) for n, lo, hi in zip(res.names, fp.lo, fp.hi)},
+            set(fp.at_bound(res.estimates)))
 
 
 def _context(su: Setup, stage: Stage) -> Context:
-    return Context(stage.net, set(stage.free), _position_ranges(stage.model, su.train, stage.Y_train),
+    return Context(stage.net, set(stage.free), _position_ranges(stage.model, su.train),
                    locate.output_quantities(stage.model), su.inputs_start)
 
 

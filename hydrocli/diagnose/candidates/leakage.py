@@ -105,10 +105,7 @@ class CylinderFamily(Family):
         lo_n, hi_n, k_n, c_n = (act.param(s) for s in ("stop_min", "stop_max", "stop_stiffness", "stop_damping"))
         if lo_n is None or hi_n is None or k_n is None:
             return Skipped("end_stop", f"'{act.name}' ({act.type}) has no end-stop parameters")
-        try:
-            k_file = ctx.value(k_n)
-        except (KeyError, TypeError, ValueError):
-            k_file = 0.0
+        k_file = ctx.value(k_n)
         if k_file > 0:
             # stops in the file are not missing: where they sit and how stiff they are is a
             # parameter question for identify (free x_min/x_max/k_stop), not a new effect
