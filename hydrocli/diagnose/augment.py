@@ -143,17 +143,20 @@ def text_of(net: Netlist) -> str:
 
 
 def output_symbols_expr(model, output: str) -> set[str]:
-    """Nodes whose position an output reads (``piston.x`` → ``piston``), from the model."""
+    """Nodes whose position or angle an output reads (``piston.x`` → ``piston``,
+    ``arm.theta`` → ``arm``), from the model."""
     e = model.equations.output_exprs[output]
     out = set()
+
+    def position(name):
+        return name.endswith(".x") or name.endswith(".theta")
     for kind, name in e.symbols():
-        base = name.rsplit(".", 1)[0]
-        if name.endswith(".x"):
-            out.add(base)
+        if position(name):
+            out.add(name.rsplit(".", 1)[0])
     # follow one variable alias (outputs often read a component variable)
     for kind, name in list(e.symbols()):
         if kind == "var" and name in model.equations.variables:
             for k2, n2 in model.equations.variables[name].symbols():
-                if n2.endswith(".x"):
+                if position(n2):
                     out.add(n2.rsplit(".", 1)[0])
     return out

@@ -97,6 +97,8 @@ def run_case(folder: Path, jobs: int, progress) -> dict:
     named = top1(data) if err is None else "error"
     return {**t, "named": named, "named_all": data.get("effects", []), "verdict": data.get("verdict"),
             "ambiguous": data.get("ambiguous", []), "esr_before": before, "esr_after": after,
+            "base_parameters": [{k: b.get(k) for k in ("name", "value", "initial", "stderr")}
+                                for b in data.get("base_parameters", [])],
             "gap_closed": gap_closed(before, after, t["noise"]) if err is None else False,
             "seconds": wall, "error": err}
 

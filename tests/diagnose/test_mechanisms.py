@@ -394,7 +394,29 @@ def test_end_stops_already_in_the_file_are_not_offered_as_missing():
         cands, skipped = catalogue(Context(net, set(), {node: (0.0, 0.195)}, {}, {}))
         out[name] = ([c for c in cands if c.effect == "end_stop"], [s for s in skipped if s.effect == "end_stop"])
     assert not out["festo_tp511"][0] and "already has end stops" in out["festo_tp511"][1][0].reason
-    assert len(out["festo_tp511_no_endstops"][0]) == 1
+    assert [[p.name for p in c.params] for c in out["festo_tp511_no_endstops"][0]] == \
+        [["cylinder.x_min", "cylinder.x_max", "cylinder.k_stop"]]
+
+
+def test_a_vane_actuator_offers_end_stops_in_its_own_units():
+    """A rotary drive's vane swings between stops: the angle output gives the travel seen (the
+    rotary family's end-stop cases were skipped for want of it), and the candidate's stiffness
+    floor is set by the vane's torque per Pa (N·m/rad), not a cylinder's N/m — a 20 cm³/rad
+    vane's softest stop (100 bar torque over a tenth of 1 rad) is 2000 N·m/rad, where the
+    linear 1e5 N/m floor would have excluded a rubber bumper."""
+    from hydrocli.diagnose import augment
+    from hydrocli.model.builder import build_model
+    net = load_netlist(ROOT / "machines" / "rotary_drive.yaml")
+    model = build_model(net)
+    assert augment.output_symbols_expr(model, "theta") == {"arm_node"}
+    cands, skipped = catalogue(Context(net, set(), {"arm_node": (-0.5, 0.5)}, {}, {}))
+    stops = [c for c in cands if c.effect == "end_stop"]
+    assert len(stops) == 1, [s.reason for s in skipped if s.effect == "end_stop"]
+    by_name = {p.name: p for p in stops[0].params}
+    assert set(by_name) == {"vane.theta_min", "vane.theta_max", "vane.k_stop"}
+    d_v = net.components["vane"].params["D_v"].value
+    assert by_name["vane.k_stop"].bounds[0] == pytest.approx(d_v * 1e7 / 0.1)      # 2000 N·m/rad
+    assert by_name["vane.theta_max"].reach == pytest.approx((-0.6, 0.6))
 
 
 def test_an_unexplained_mismatch_says_when_held_out_positions_leave_the_training_range():

@@ -5,6 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from hydrocli.errors import SolverError
 from hydrocli.experiments.experiment_file import load_experiment_files
 from hydrocli.model.builder import build_model
 from hydrocli.netlist.loader import load_netlist
@@ -89,3 +90,30 @@ def test_festo_experiments_reference_the_shared_recordings():
     # and clips at 9.9988 V = 199.98 mm raw, i.e. 194.4 mm after the offset (docs/festo.md)
     assert np.nanmax(e.measured["x"]) == pytest.approx(0.19998 - 0.00555, abs=2e-3)
     assert abs(np.median(e.measured["x"][:40])) < 1e-3
+
+
+def test_vane_held_against_its_stop_compresses_it_by_the_net_torque_over_the_stiffness(tmp_path):
+    """The vane actuator's stop (theta_max, k_stop, off while k_stop = 0): driven open into it at
+    constant supply the vane comes to rest where the stop carries the hydraulic torque less
+    the weight moment, k·(θ − θ_max) = D_v·(p₁ − p₂) − W·sin θ (± the shaft's Coulomb
+    friction), read from the simulated pressures; without the stop it swings past."""
+    text = (ROOT / "machines" / "rotary_drive.yaml").read_text().replace(
+        "    R_v: {value: 0.0, free: false}",
+        "    R_v: {value: 0.0, free: false}\n    theta_max: 0.3\n    k_stop: \"2.0e4 N*m/rad\"\n    c_stop: 500.0")
+    (tmp_path / "stopped.yaml").write_text(text)
+    t = np.linspace(0.0, 4.0, 401)
+    tab = InputTable(np.array([0.0, 0.1, 0.11, 5.0]), np.array([[0.0, 1e7], [0.0, 1e7], [30.0, 1e7], [30.0, 1e7]]))
+    free = _model("rotary_drive")
+    try:
+        y_free = simulate(free, tab, t, opts=SolverOptions(rtol=1e-6)).Y
+    except SolverError as err:              # runs on until a chamber empties
+        y_free = err.partial.Y
+    m = build_model(load_netlist(tmp_path / "stopped.yaml"))
+    tr = simulate(m, tab, t, opts=SolverOptions(rtol=1e-6))
+    y = dict(zip(m.output_names, tr.Y[-1]))
+    P = {n: m.p0[m.param_index(n)] for n in ("vane.D_v", "gravity.W", "friction.tau_c", "vane.k_stop")}
+    assert np.ptp(tr.Y[-50:, m.output_names.index("theta")]) < 1e-4                     # at rest on the stop
+    net_torque = P["vane.D_v"] * (y["P1"] - y["P2"]) - P["gravity.W"] * np.sin(y["theta"])
+    assert net_torque > 10 * P["friction.tau_c"]                                          # pressing into it
+    assert P["vane.k_stop"] * (y["theta"] - 0.3) == pytest.approx(net_torque, abs=P["friction.tau_c"])
+    assert y_free[:, free.output_names.index("theta")].max() > 0.35                      # free: swings past

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from ..base import Component, H, Param, Port, R, VariableSpec
 from ..registry import register
+from .cylinder import end_stop_force
 from .fluid import AIR_PARAMS, cavitation_floor, effective_bulk_modulus, oil_bulk_modulus
 from .. import roles as RL
 from ..roles import role
@@ -67,10 +68,11 @@ class VaneActuator(Component):
     """Rotary vane actuator (seed 001 eqs. 9–10, 12–13): torque D_v·(p_1 − p_2) (eq. 12), flow
     D_v·ω (eq. 13), cross-vane leakage R_v·(p_1 − p_2) (eq. 20; R_v is a conductance), chamber
     capacitances (V_c + V_p ± D_v·θ)/β (eqs. 9–10), β with entrained air when ``air`` is set
-    (``fluid.effective_bulk_modulus``)."""
+    (``fluid.effective_bulk_modulus``); penalty stops at the ends of the vane's travel
+    [θ_min, θ_max] (the cylinder's ``end_stop_force`` in rotary units), off while k_stop = 0."""
 
     type = "vane_actuator"
-    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_v", displacements=("D_v",), bulk_modulus="beta", internal_leakage="R_v", air="air", air_exponent="air_n", air_dissolve="p_dissolve"),)
+    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_v", displacements=("D_v",), bulk_modulus="beta", internal_leakage="R_v", air="air", air_exponent="air_n", air_dissolve="p_dissolve", stop_min="theta_min", stop_max="theta_max", stop_stiffness="k_stop", stop_damping="c_stop"),)
     family = "hydraulic"
     description = "Rotary vane actuator with cross-port leakage and chamber compressibility"
     source = "seed 001 eqs. 9–10, 12–13, 20"
@@ -86,9 +88,16 @@ class VaneActuator(Component):
         Param("V_2", "m^3", 2e-5, "chamber 2 + port line volume at θ = 0", positive=True, bounds=(1e-7, 1e-2)),
         Param("beta", "Pa", 1.5e9, "oil bulk modulus", fluid="beta", positive=True, bounds=(1e8, 2.5e9)),
         *AIR_PARAMS,
+        Param("theta_min", "rad", -1e3, "stop at the low end of the vane's travel"),
+        Param("theta_max", "rad", 1e3, "stop at the high end of the vane's travel"),
+        Param("k_stop", "N*m/rad", 0.0, "stop contact stiffness (0 and not free = no stops)", min=0.0,
+              bounds=(1e4, 1e10)),
+        Param("c_stop", "N*m*s/rad", 0.0, "stop contact damping", min=0.0, bounds=(0.0, 1e7)),
+        Param("eps_stop", "rad", 1e-5, "smoothing of the stop contact", positive=True),
     )
     variables = (VariableSpec("theta", "rad", "vane angle"), VariableSpec("w", "rad/s", "vane speed"),
-                 VariableSpec("tau", "N*m", "hydraulic torque"), VariableSpec("q_leak", "m^3/s", "leakage 1→2"))
+                 VariableSpec("tau", "N*m", "hydraulic torque"), VariableSpec("q_leak", "m^3/s", "leakage 1→2"),
+                 VariableSpec("tau_stop", "N*m", "stop torque"))
 
     def equations(self, c):
         p = c.p
@@ -106,5 +115,10 @@ class VaneActuator(Component):
         c.through("A", p.D_v * w + q_l)
         c.through("B", -p.D_v * w - q_l)
         tau = c.let("tau", p.D_v * (pa - pb))
-        c.through("shaft", -tau)
-        c.through("body", tau)
+        t_stop = c.let("tau_stop", end_stop_force(th, w, p.theta_min, p.theta_max, p.k_stop, p.c_stop, p.eps_stop)
+                       if c.active("k_stop") else 0.0)
+        c.through("shaft", -(tau + t_stop))
+        c.through("body", tau + t_stop)
+
+    def check(self, values):
+        return ["theta_min must be below theta_max"] if values["theta_min"] >= values["theta_max"] else []
