@@ -49,7 +49,7 @@ class CylinderFamily(Family):
                 out.append(_laminar(ctx, "external_leakage", act.name, [(act.node(rod_side), _tank_node(ctx))],
                                     "rod-seal leakage of the rod-side chamber to drain", k, variant="rod_seal"))
             out.append(self._air(ctx, act, a, b))
-            out.extend(self._end_stop(ctx, act))
+            out.append(self._end_stop(ctx, act))
         return out
 
     def _internal(self, ctx: Context, act: Part, a: str, b: str, k: float):
@@ -106,25 +106,23 @@ class CylinderFamily(Family):
     def _end_stop(self, ctx: Context, act: Part):
         lo_n, hi_n, k_n, c_n = (act.param(s) for s in ("stop_min", "stop_max", "stop_stiffness", "stop_damping"))
         if lo_n is None or hi_n is None or k_n is None:
-            return [Skipped("end_stop", f"'{act.name}' ({act.type}) has no end-stop parameters")]
+            return Skipped("end_stop", f"'{act.name}' ({act.type}) has no end-stop parameters")
         k_file = ctx.value(k_n)
         if k_file > 0:
             # stops in the file are not missing: where they sit and how stiff they are is a
             # parameter question for identify (free x_min/x_max/k_stop), not a new effect
-            return [Skipped("end_stop", f"'{act.name}' already has end stops ({k_n} = {k_file:.3g}): their "
-                                       "positions and stiffness are the file's parameters, not a missing effect")]
+            return Skipped("end_stop", f"'{act.name}' already has end stops ({k_n} = {k_file:.3g}): their "
+                                       "positions and stiffness are the file's parameters, not a missing effect")
         node = act.node("motion")
         rng = ctx.position_range.get(node)
         if rng is None:
-            return [Skipped("end_stop", f"no position range of '{act.name}' seen in the data")]
+            return Skipped("end_stop", f"no position range of '{act.name}' seen in the data")
         lo, hi = rng
         span = max(hi - lo, 1e-3)
         # the softest "stop" the fit may reach, in the actuator's own units (N/m for a cylinder,
         # N·m/rad for a vane): one that still arrests the actuator's force at STOP_PRESSURE
         # within a tenth of the stroke seen (a rubber bumper), or 1e5 when that is lower
-        size_n = act.param("size")
-        size = abs(ctx.value(size_n)) if size_n else 1e-3
-        k_lo = min(K_STOP_FLOOR, size * STOP_PRESSURE / (0.1 * span))
+        k_lo = min(K_STOP_FLOOR, ctx.size(act) * STOP_PRESSURE / (0.1 * span))
         # stop positions have no "off" value: judged as positions (plausible range of the value,
         # standard error against the stroke seen)
         # a stop fitted more than a tenth of the stroke beyond every recorded position is not
@@ -138,8 +136,8 @@ class CylinderFamily(Family):
                   # contact stiffness identified too (log scale): a real stop (Hertz/Hunt–Crossley
                   # contact, a rubber bumper) is far from one fixed linear spring
                   NewParam(k_n, 1e8, (k_lo, 1e11), (k_lo, 1e11), 3e8, True, primary=False)]
-        return [self.parameter_candidate(ctx, "end_stop", act.name, params, "force",
-                                         "stiff end stops at the stroke ends", fixed={c_n: 1e4} if c_n else None)]
+        return self.parameter_candidate(ctx, "end_stop", act.name, params, "force",
+                                        "stiff end stops at the stroke ends", fixed={c_n: 1e4} if c_n else None)
 
 
 def _tank_node(ctx: Context) -> str | None:
