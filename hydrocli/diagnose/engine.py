@@ -32,7 +32,8 @@ from ..model.model import Model
 from ..netlist.loader import load_netlist
 from ..netlist.model import Netlist
 from ..progress import status
-from . import accept, augment, baseline, design, findings, locate, nuisance, residuals, restrain, stats, workers
+from . import (accept, augment, baseline, design, findings, locate, nuisance, residuals, restrain, runaway, stats,
+               travel, workers)
 from .candidates import Candidate, Context, catalogue
 from .equations import equation_errors, measured_states
 from .measurement import sensed_states, with_pressure_sensors
@@ -170,22 +171,6 @@ def _inputs_start(model, exps) -> dict:
     return {n: float(np.mean([e.inputs.U[0, j] for e in exps])) for j, n in enumerate(model.input_names)}
 
 
-def _output_ranges(model, exps) -> dict[str, tuple[float, float]]:
-    """{position or angle output: (min, max) measured over ``exps``}."""
-    out = {}
-    for o, k in locate.output_quantities(model).items():
-        if k in ("position", "angle"):
-            vals = np.concatenate([e.measured[o][residuals.used(e, o)] for e in exps if o in e.measured]
-                                  or [np.zeros(1)])
-            out[o] = (float(np.min(vals)), float(np.max(vals)))
-    return out
-
-
-def _position_ranges(model, exps) -> dict:
-    """{model symbol a position/angle output reads: its measured (min, max)}."""
-    return {s: r for o, r in _output_ranges(model, exps).items() for s in augment.output_symbols_expr(model, o)}
-
-
 # -- step 1 -------------------------------------------------------------------------------
 def prepare(machine, train_paths, validate_paths, settings: Settings) -> Setup:
     net0 = load_netlist(machine)
@@ -213,11 +198,26 @@ def prepare(machine, train_paths, validate_paths, settings: Settings) -> Setup:
 
 
 # -- step 2 -------------------------------------------------------------------------------
-def baseline_step(su: Setup, st: Settings, progress=None) -> Baseline:
+def follow(su: Setup, progress=None) -> tuple[Setup, runaway.Runaway | None]:
+    """The setup, with stops at the recorded ends of travel when the base model cannot
+    simulate the training recordings without them (:mod:`.runaway`)."""
+    ctx = Context(su.net, set(su.model.free_params), travel.position_ranges(su.model, su.train),
+                  locate.output_quantities(su.model), su.inputs_start, travel.censored_ends(su.model, su.train))
+    run = runaway.stops_if_needed(su.net, su.model, su.train, ctx)
+    if run is None:
+        return su, None
+    _log(progress, f"the base model cannot simulate the training recordings ({run.failure}); stops placed at the "
+                   f"ends of the recorded travel of '{run.candidate.component}' let it: the base fit starts from them")
+    return replace(su, net=run.net, model=run.model), run
+
+
+def baseline_step(su: Setup, st: Settings, progress=None, run: runaway.Runaway | None = None) -> Baseline:
     model, train, validate, outputs = su.model, su.train, su.validate, su.outputs
     _log(progress, f"re-identifying the base model ({len(model.free_params)} free parameters) on "
                    f"{len(train)} training experiment(s)…")
     res0 = baseline.identify(model, train, iterations=st.base_evals, progress=_fit_status(progress, "base fit"))
+    withdrawn = (workers.withdraw_idle_stops(residuals.objective(model, train), model, res0, _stops(run.candidate))
+                 if run is not None else [])
     base = _stage(augment.set_values(su.net, dict(zip(res0.names, res0.estimates))), model, res0.p, res0.cost,
                   res0.names, train, validate, outputs)
     n_eff = residuals.effective_n(model, train, base.Y_train, outputs)
@@ -228,9 +228,13 @@ def baseline_step(su: Setup, st: Settings, progress=None) -> Baseline:
     eq = {s: {k: v for k, v in d.items() if k != "error"} for s, d in equation_errors(model, train[0], base.p).items()}
     where["equations"] = eq
     found = _base_fit_findings(su, base, judged)
+    if run is not None:
+        found.insert(0, runaway.finding(run, dict(zip(res0.names, res0.estimates)),
+                                        {j["name"]: j["stderr"] for j in judged}, withdrawn))
     for f in found:
-        _log(progress, f"  the base fit found {f['effect']} on '{f['component']}' "
-                       f"(validation gain {f['validation_gain']:.3g} % > {f['noise_band']:.3g} %)")
+        why = (f"validation gain {f['validation_gain']:.3g} % > {f['noise_band']:.3g} %" if "validation_gain" in f
+               else "needed to simulate the training recordings at all")
+        _log(progress, f"  the base fit found {f['effect']} on '{f['component']}' ({why})")
     bounds, at_bound = _bounds(model, res0)
     lim = restrain.limits(_context(su, base), dict(zip(res0.names, res0.estimates)), bounds,
                           dict(zip(res0.names, res0.initial)), at_bound)
@@ -246,9 +250,15 @@ def _bounds(model, res) -> tuple[dict[str, tuple[float, float]], set[str]]:
             set(fp.at_bound(res.estimates)))
 
 
+def _stops(c) -> list[dict]:
+    """A candidate's stop positions, as :func:`workers.withdraw_idle_stops` reads them."""
+    return [{"name": p.name, "start": p.start, "seen": p.seen, "bounds": p.bounds, "scale": p.scale}
+            for p in c.params if p.seen]
+
+
 def _context(su: Setup, stage: Stage) -> Context:
-    return Context(stage.net, set(stage.free), _position_ranges(stage.model, su.train),
-                   locate.output_quantities(stage.model), su.inputs_start)
+    return Context(stage.net, set(stage.free), travel.position_ranges(stage.model, su.train),
+                   locate.output_quantities(stage.model), su.inputs_start, travel.censored_ends(stage.model, su.train))
 
 
 def _restrained(su: Setup, base: Stage, lim: dict, st: Settings, progress) -> Stage:
@@ -327,7 +337,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     fits = workers.run_all(workers.fit_one, controls + [dict(common, key=c.key, text=texts[c.key],
                                                              validate=validate, starts=scores[c.key].get("starts"),
                                                              max_evals=st.candidate_evals, n_eff=n_eff,
-                                                             gradient=grad[c.key]) for c in best], pool,
+                                                             gradient=grad[c.key], stops=_stops(c))
+                                                        for c in best], pool,
                            progress=progress, what=f"round {round_ + 1}: candidate fits done")
     fits = {f["key"]: f for f in fits}
     base_ref = {}
@@ -543,7 +554,7 @@ def conclude(su: Setup, b: Baseline, final: Stage, accepted: list[dict], ranking
         "runtime_s": time.perf_counter() - t_start,
     }
     if mismatch:
-        beyond = findings.beyond_training(_output_ranges(su.model, su.train), _output_ranges(su.model, su.validate))
+        beyond = findings.beyond_training(travel.output_ranges(su.model, su.train), travel.output_ranges(su.model, su.validate))
         data["unexplained"] = {**mismatch, **({"beyond_training": beyond} if beyond else {})}
     if b.restrained is not None:
         rs = b.restrained
@@ -559,8 +570,8 @@ def conclude(su: Setup, b: Baseline, final: Stage, accepted: list[dict], ranking
 def diagnose(machine, train_paths, validate_paths, settings: Settings | None = None, progress=None) -> Diagnosis:
     st = settings or Settings()
     t_start = time.perf_counter()
-    su = prepare(machine, train_paths, validate_paths, st)
-    b = baseline_step(su, st, progress)
+    su, run = follow(prepare(machine, train_paths, validate_paths, st), progress)
+    b = baseline_step(su, st, progress, run)
     stage, accepted, ranking, skipped, history, ambiguous = b.stage, list(b.found), [], [], [], []
     parallel = st.jobs > 1 or st.scheduler
     with (executor(st.jobs, st.scheduler) if parallel else nullcontext(None)) as pool:
@@ -602,7 +613,9 @@ def _param(judged, name):
 def _new_params(c, f) -> list[dict]:
     est = dict(zip(f["names"], f["estimates"]))
     se = dict(zip(f["names"], f["stderr"]))
+    idle = set(f.get("withdrawn") or ())
     return [{"name": p.name, "value": est[p.name], "stderr": se[p.name], "plausible": list(p.plausible)}
+            | ({"withdrawn": "pressed by nothing in the training data: moved out of reach"} if p.name in idle else {})
             for p in c.params if p.name in est]
 
 

@@ -69,6 +69,13 @@ def console_summary(diag) -> str:
                                                               else "") + "): consider correcting the file.")
     if d["accepted"]:
         for a in d["accepted"]:
+            if a.get("source") == "base_fit" and "validation_gain" not in a:     # stops needed to simulate at all
+                pars = ", ".join(f"{p['name']} = {p['value']:.3g}" + (" (withdrawn: never pressed)" if p.get("withdrawn")
+                                                                      else f" ± {p['stderr']:.2g}")
+                                 for p in a["parameters"])
+                lines.append(f"{a['effect'].replace('_', ' ').capitalize()} on '{a['component']}' is present: "
+                             f"{a['description']} ({pars}).")
+                continue
             if a.get("source") == "base_fit":
                 pars = ", ".join(f"{p['name']} = {p['value']:.3g} ± {p['stderr']:.2g} (file: {p['file_value']:.3g})"
                                  for p in a["parameters"])

@@ -121,6 +121,7 @@ def fit_one(job: dict) -> dict:
                 trial = baseline.identify(model, job["train"], p_start=q, iterations=job["max_evals"], gradient=grad)
                 if res is None or trial.cost < res.cost:
                     res = trial
+        withdrawn = withdraw_idle_stops(obj, model, res, job.get("stops") or [])
         Ytr = residuals.simulate_outputs(model, job["train"], res.p)
         Yva = residuals.simulate_outputs(model, job["validate"], res.p)
         # standard errors inflated by THIS fit's residual autocorrelation: a candidate that
@@ -135,9 +136,46 @@ def fit_one(job: dict) -> dict:
                 "esr_train": residuals.esr_table(model, job["train"], Ytr, job["outputs"]),
                 "esr_train_each": [residuals.total(residuals.esr_table(model, [e], [Y], job["outputs"]))
                                    for e, Y in zip(job["train"], Ytr)],
-                "esr_validation": residuals.esr_table(model, job["validate"], Yva, job["outputs"])}
+                "esr_validation": residuals.esr_table(model, job["validate"], Yva, job["outputs"]),
+                "withdrawn": withdrawn}
     except Exception as exc:
         return {"key": job["key"], "error": f"{type(exc).__name__}: {exc}"}
+
+
+IDLE_STOP = 0.01       # share of the travel seen a stop must sit beyond it to count as never pressed
+
+
+def withdraw_idle_stops(obj, model, res, stops: list[dict]) -> list[str]:
+    """Stops the training data never press, moved out of reach (in place in ``res``).
+
+    A stop fitted beyond every position recorded (by more than IDLE_STOP of the travel seen)
+    was never pressed by the machine: pressed, it would have been compressed, and the record
+    would reach past it. If the fit still leans on it, it does so where the simulated
+    trajectory strays from the record (an open-loop drift held by a stop that is not there),
+    and a held-out run that goes a little further meets a stop the data never showed. It is
+    moved to its outer bound, out of reach, and the cost is the withdrawn model's (ΔBIC is
+    judged on what is kept). ``stops``: {name, start, seen (min, max), bounds, scale} of the
+    candidate's stop positions."""
+    q = np.array(res.p, dtype=float)
+    names = []
+    for s in stops:
+        i = model.param_index(s["name"])
+        lo, hi = s["seen"]
+        tol = IDLE_STOP * s["scale"]
+        if s["start"] < lo and q[i] < lo - tol:
+            q[i], _ = s["bounds"]
+        elif s["start"] > hi and q[i] > hi + tol:
+            _, q[i] = s["bounds"]
+        else:
+            continue
+        names.append(s["name"])
+    if not names:
+        return []
+    c0, c1 = obj.cost(np.asarray(res.p, dtype=float)), obj.cost(q)
+    res.cost = res.cost * c1 / c0 if c0 > 0 else c1
+    res.p = q
+    res.estimates = np.array([q[model.param_index(n)] for n in res.names])
+    return names
 
 
 def _fit_starts(obj, p: np.ndarray, model, starts: list[dict]) -> list[np.ndarray]:

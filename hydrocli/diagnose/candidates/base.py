@@ -48,6 +48,9 @@ class NewParam:
     reach: tuple[float, float] = ()        # a stop's: the positions recorded (± margin). Fitted outside
                                            # them it is not engaged: only bounded from one side, its
                                            # standard error is no test of the effect (accept.judge)
+    seen: tuple[float, float] = ()         # a stop's: the positions recorded (min, max). A stop fitted
+                                           # beyond them is pressed by nothing in training: the fit
+                                           # withdraws it to its outer bound (workers.withdraw_idle_stops)
 
 
 @dataclass
@@ -81,6 +84,8 @@ class Context:
     position_range: dict[str, tuple[float, float]] = field(default_factory=dict)  # node → (min, max) m
     outputs: dict[str, str] = field(default_factory=dict)   # output → quantity ("pressure", "position", …)
     inputs_start: dict[str, float] = field(default_factory=dict)  # input → first sample (mean over training)
+    position_censored: dict[str, tuple[bool, bool]] = field(default_factory=dict)  # node → (min, max) hidden
+                                                            # by the recording's mask (a clipping sensor)
 
     def parts(self, role: str) -> list["Part"]:
         """Every component of the machine that offers ``role``, in file order."""

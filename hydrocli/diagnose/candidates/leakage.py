@@ -10,6 +10,8 @@ library elements found by role: a laminar restriction between the chambers, rest
 the tank, a small air-laden volume on each chamber."""
 from __future__ import annotations
 
+import numpy as np
+
 from ...components import roles as R
 from .. import augment as A
 from ...components.base import Domain
@@ -119,6 +121,10 @@ class CylinderFamily(Family):
             return Skipped("end_stop", f"no position range of '{act.name}' seen in the data")
         lo, hi = rng
         span = max(hi - lo, 1e-3)
+        # the ends the record shows (a masked end — a clipping sensor — may hide a stop beyond
+        # it: no stop there is withdrawn as never pressed)
+        c_lo, c_hi = ctx.position_censored.get(node, (False, False))
+        seen = (-np.inf if c_lo else lo, np.inf if c_hi else hi)
         # the softest "stop" the fit may reach, in the actuator's own units (N/m for a cylinder,
         # N·m/rad for a vane): one that still arrests the actuator's force at STOP_PRESSURE
         # within a tenth of the stroke seen (a rubber bumper), or 1e5 when that is lower
@@ -130,9 +136,11 @@ class CylinderFamily(Family):
         # last millimetres, the contact compresses): accept.judge does not judge its precision
         reach = (lo - 0.1 * span, hi + 0.1 * span)
         params = [NewParam(lo_n, lo - 0.2 * span, (lo - 0.5 * span, lo + 0.02 * span),
-                           (lo - 0.5 * span, lo + 0.02 * span), lo - 0.005 * span, scale=span, reach=reach),
+                           (lo - 0.5 * span, lo + 0.02 * span), lo - 0.005 * span, scale=span, reach=reach,
+                           seen=seen),
                   NewParam(hi_n, hi + 0.2 * span, (hi - 0.02 * span, hi + 0.5 * span),
-                           (hi - 0.02 * span, hi + 0.5 * span), hi + 0.005 * span, scale=span, reach=reach),
+                           (hi - 0.02 * span, hi + 0.5 * span), hi + 0.005 * span, scale=span, reach=reach,
+                           seen=seen),
                   # contact stiffness identified too (log scale): a real stop (Hertz/Hunt–Crossley
                   # contact, a rubber bumper) is far from one fixed linear spring
                   NewParam(k_n, 1e8, (k_lo, 1e11), (k_lo, 1e11), 3e8, True, primary=False)]
