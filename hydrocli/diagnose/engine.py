@@ -201,8 +201,7 @@ def prepare(machine, train_paths, validate_paths, settings: Settings) -> Setup:
 def follow(su: Setup, progress=None) -> tuple[Setup, runaway.Runaway | None]:
     """The setup, with stops at the recorded ends of travel when the base model cannot
     simulate the training recordings without them (:mod:`.runaway`)."""
-    ctx = Context(su.net, set(su.model.free_params), travel.position_ranges(su.model, su.train),
-                  locate.output_quantities(su.model), su.inputs_start, travel.censored_ends(su.model, su.train))
+    ctx = _context_of(su, su.net, set(su.model.free_params), su.model)
     run = runaway.stops_if_needed(su.net, su.model, su.train, ctx)
     if run is None:
         return su, None
@@ -257,8 +256,14 @@ def _stops(c) -> list[dict]:
 
 
 def _context(su: Setup, stage: Stage) -> Context:
-    return Context(stage.net, set(stage.free), travel.position_ranges(stage.model, su.train),
-                   locate.output_quantities(stage.model), su.inputs_start, travel.censored_ends(stage.model, su.train))
+    return _context_of(su, stage.net, set(stage.free), stage.model)
+
+
+def _context_of(su: Setup, net: Netlist, free: set[str], model: Model) -> Context:
+    """What the catalogue looks at for this machine: the travel the training recordings show
+    (ranges and masked ends, read through ``model``'s outputs), outputs, inputs at the start."""
+    ranges, censored = travel.ends(model, su.train)
+    return Context(net, free, ranges, locate.output_quantities(model), su.inputs_start, censored)
 
 
 def _restrained(su: Setup, base: Stage, lim: dict, st: Settings, progress) -> Stage:
@@ -613,10 +618,7 @@ def _param(judged, name):
 def _new_params(c, f) -> list[dict]:
     est = dict(zip(f["names"], f["estimates"]))
     se = dict(zip(f["names"], f["stderr"]))
-    idle = set(f.get("withdrawn") or ())
-    return [{"name": p.name, "value": est[p.name], "stderr": se[p.name], "plausible": list(p.plausible)}
-            | ({"withdrawn": "pressed by nothing in the training data: moved out of reach"} if p.name in idle else {})
-            for p in c.params if p.name in est]
+    return workers.parameter_rows(c.params, est, se, f.get("withdrawn") or ())
 
 
 def _evidence(c, score, where) -> str:

@@ -20,7 +20,7 @@ from ..model.builder import build_model
 from ..model.model import Model
 from ..netlist.model import Netlist
 from ..solve.simulate import simulate
-from . import augment, residuals
+from . import augment, residuals, workers
 from .candidates import Candidate, Context, catalogue
 
 
@@ -31,7 +31,7 @@ def first_failure(model: Model, exps, p=None) -> str | None:
         try:
             simulate(model, e.inputs, e.t_out, p=p, x0=initial_state(model, e), opts=residuals.OPTS)
         except HydroError as exc:
-            return f"'{e.name}': {exc.problems[0].message if getattr(exc, 'problems', None) else exc}"
+            return f"'{e.name}': {exc.problems[0].message}"
     return None
 
 
@@ -65,10 +65,6 @@ def finding(r: Runaway, estimates: dict[str, float], stderr: dict[str, float], w
     """The end stop as an effect the base fit found (diagnosis.json ``accepted``)."""
     c = r.candidate
     return {"effect": c.effect, "component": c.component, "source": "base_fit",
-            "parameters": [{"name": p.name, "value": estimates[p.name], "stderr": stderr.get(p.name),
-                            "plausible": list(p.plausible)}
-                           | ({"withdrawn": "pressed by nothing in the training data: moved out of reach"}
-                              if p.name in withdrawn else {})
-                           for p in c.params if p.name in estimates],
+            "parameters": workers.parameter_rows(c.params, estimates, stderr, withdrawn),
             "description": f"the base model cannot simulate the training recordings without stops ({r.failure}); "
                            f"with stops at the ends of the recorded travel it can: {c.description}"}

@@ -20,21 +20,16 @@ def output_ranges(model, exps) -> dict[str, tuple[float, float]]:
     return out
 
 
-def position_ranges(model, exps) -> dict:
-    """{model symbol a position/angle output reads: its measured (min, max)}."""
-    return {s: r for o, r in output_ranges(model, exps).items() for s in augment.output_symbols_expr(model, o)}
-
-
 CENSOR_NEAR = 0.05   # share of the span: a mask edge this close to an end hides what lies beyond it
 
 
-def censored_ends(model, exps) -> dict[str, tuple[bool, bool]]:
-    """{model symbol a position/angle output reads: (min censored, max censored)}. An end is
-    censored when the recording's mask (a clipping sensor, samples set aside) starts or stops
-    next to it: the machine may have gone further than the samples that count show."""
-    ranges = output_ranges(model, exps)
-    out = {}
-    for o, (lo, hi) in ranges.items():
+def ends(model, exps) -> tuple[dict[str, tuple[float, float]], dict[str, tuple[bool, bool]]]:
+    """For each model symbol a position/angle output reads: its measured (min, max), and
+    (min censored, max censored). An end is censored when the recording's mask (a clipping
+    sensor, samples set aside) starts or stops next to it: the machine may have gone further
+    than the samples that count show."""
+    ranges, censored = {}, {}
+    for o, (lo, hi) in output_ranges(model, exps).items():
         near = CENSOR_NEAR * max(hi - lo, 1e-12)
         c_lo = c_hi = False
         for e in exps:
@@ -46,5 +41,5 @@ def censored_ends(model, exps) -> dict[str, tuple[bool, bool]]:
             c_lo |= bool(np.any(vals <= lo + near))
             c_hi |= bool(np.any(vals >= hi - near))
         for s in augment.output_symbols_expr(model, o):
-            out[s] = (c_lo, c_hi)
-    return out
+            ranges[s], censored[s] = (lo, hi), (c_lo, c_hi)
+    return ranges, censored

@@ -178,6 +178,14 @@ def withdraw_idle_stops(obj, model, res, stops: list[dict]) -> list[str]:
     return names
 
 
+def parameter_rows(params, estimates: dict[str, float], stderr: dict[str, float], withdrawn) -> list[dict]:
+    """A candidate's new parameters as diagnosis.json lists them, the withdrawn stops marked."""
+    idle = set(withdrawn)
+    return [{"name": p.name, "value": estimates[p.name], "stderr": stderr.get(p.name), "plausible": list(p.plausible)}
+            | ({"withdrawn": "pressed by nothing in the training data: moved out of reach"} if p.name in idle else {})
+            for p in params if p.name in estimates]
+
+
 def _fit_starts(obj, p: np.ndarray, model, starts: list[dict]) -> list[np.ndarray]:
     """Where a candidate's fit starts: the start of lowest cost, and — when that is the effect
     switched off (``starts[0]``, as :func:`screen_one` lists them) — also the best start with
