@@ -27,5 +27,5 @@ def load_machine(path: str | Path, sets: list[str] | None = None) -> tuple[Netli
 def simulate_experiment(model: Model, exp: Experiment, p: np.ndarray | None = None,
                         opts: SolverOptions | None = None, command: str = "") -> RunResult:
     p = model.p0 if p is None else p
-    traj = simulate(model, exp.inputs, exp.t_out, p=p, x0=initial_state(model, exp), opts=opts)
+    traj = simulate(model, exp.inputs, exp.t_out, p=p, x0=initial_state(model, exp, p), opts=opts)
     return run_result(model, exp, traj, p, command)

@@ -99,7 +99,9 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
         size = abs(v - p.ref)
         inside = p.plausible[0] <= (v if p.scale else size) <= p.plausible[1]
         plausible_any |= inside and p.primary
-        if at_bound and inside:
+        if at_bound and inside and (p.primary or size > 1e-3 * (p.bounds[1] - p.bounds[0])):
+            # (a companion left at its "off" value is unused, not pushed: a linear rod–load
+            # link needs no joint friction)
             reasons.append(f"{p.name} ended at a bound ({v:.3g})")
         dev = p.scale or size
         if p.primary and inside and np.isfinite(s) and dev > 0 and s / dev > MAX_REL_SE:

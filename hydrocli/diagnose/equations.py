@@ -64,7 +64,7 @@ def equation_errors(model: Model, exp, p: np.ndarray) -> dict[str, dict]:
     """{state: {"output", "balance", "relative_rms", "error"}} along the measured trajectory."""
     t = exp.t_out
     fs = 1.0 / float(np.median(np.diff(t)))
-    traj = simulate(model, exp.inputs, t, p=p, x0=initial_state(model, exp), opts=OPTS)
+    traj = simulate(model, exp.inputs, t, p=p, x0=initial_state(model, exp, p), opts=OPTS)
     X = traj.X.copy()
     ms = measured_states(model, exp)
     for s, o in ms.items():

@@ -39,7 +39,7 @@ def simulate_outputs(model: Model, exps: list[Experiment], p: np.ndarray) -> lis
     out = []
     for e in exps:
         try:
-            out.append(simulate(model, e.inputs, e.t_out, p=p, x0=initial_state(model, e), opts=OPTS).Y)
+            out.append(simulate(model, e.inputs, e.t_out, p=p, x0=initial_state(model, e, p), opts=OPTS).Y)
         except HydroError as exc:
             out.append(held_after_failure(getattr(exc, "partial", None), e.t_out.size, len(model.output_names)))
     return out

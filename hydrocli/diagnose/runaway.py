@@ -29,7 +29,7 @@ def first_failure(model: Model, exps, p=None) -> str | None:
     p = model.p0 if p is None else p
     for e in exps:
         try:
-            simulate(model, e.inputs, e.t_out, p=p, x0=initial_state(model, e), opts=residuals.OPTS)
+            simulate(model, e.inputs, e.t_out, p=p, x0=initial_state(model, e, p), opts=residuals.OPTS)
         except HydroError as exc:
             return f"'{e.name}': {exc.problems[0].message}"
     return None

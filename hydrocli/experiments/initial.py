@@ -2,9 +2,16 @@
 
 x0 = the model's initial state, then every state an output reads directly (through variable
 aliases) set to that output's first finite measured sample (``initial_from_data``), then the
-experiment's explicit ``initial:`` values; with ``settle`` > 0 (``initial: steady``) the
-machine then runs that long with its inputs frozen at their first value (parameters ``p``)
-and starts from the end of that pre-roll.
+experiment's explicit ``initial:`` values, then the machine file's initial RULES
+(:class:`~hydrocli.model.model.InitialRule`): ``output`` (this state moved so that the output
+starts at its first measured sample: one Newton step, exact for an output affine in the
+state, e.g. a stroke read relative to a moving body, x = x_rod − x_frame), ``same_as`` (start
+where another state starts: a rod and the load it drives through a compliant link), and —
+with the parameters ``p`` — ``balance`` (the value that makes another state's derivative zero
+at t0: the force a spring carries so the node it holds starts at rest; without it a load
+hung on a compliant link drops at t = 0 and rings). With ``settle`` > 0 (``initial: steady``)
+the machine then runs that long with its inputs frozen at their first value and starts from
+the end of that pre-roll.
 """
 from __future__ import annotations
 
@@ -16,8 +23,10 @@ from .experiment import Experiment
 
 
 def initial_state(model: Model, exp: Experiment, p: np.ndarray | None = None) -> np.ndarray:
-    """x0 of ``exp`` on ``model`` (a settle pre-roll runs with parameters ``p``)."""
+    """x0 of ``exp`` on ``model`` (balance rules and a settle pre-roll use parameters ``p``)."""
     x0 = given_state(model, exp)
+    if depends_on_parameters(model):
+        x0 = balanced(model, exp, x0, model.p0 if p is None else np.asarray(p, dtype=float))
     if exp.settle > 0:
         frozen = InputTable(np.array([0.0]), exp.inputs.U[:1].copy())
         traj = simulate(model, frozen, np.array([0.0, exp.settle]), p=p, x0=x0, opts=SolverOptions(rtol=1e-6))
@@ -25,8 +34,14 @@ def initial_state(model: Model, exp: Experiment, p: np.ndarray | None = None) ->
     return x0
 
 
+def depends_on_parameters(model: Model) -> bool:
+    """Whether the start state (before any settle pre-roll) depends on the parameters."""
+    return any(r.kind == "balance" for r in model.initial_rules)
+
+
 def given_state(model: Model, exp: Experiment) -> np.ndarray:
-    """x0 before any settle pre-roll: model defaults, measured states, explicit values."""
+    """x0 before balance rules and any settle pre-roll: model defaults, measured states,
+    explicit values, ``output`` and ``same_as`` rules."""
     x0 = model.x0.copy()
     if exp.initial_from_data:
         for out, values in exp.measured.items():
@@ -36,6 +51,64 @@ def given_state(model: Model, exp: Experiment) -> np.ndarray:
                 x0[model.state_index(state)] = finite[0]
     for name, v in exp.initial.items():
         x0[model.state_index(name)] = v
+    for rule in model.initial_rules:
+        if rule.kind == "output" and exp.initial_from_data and rule.state not in exp.initial:
+            _to_output(model, exp, x0, rule)
+    for rule in model.initial_rules:
+        if rule.kind == "same_as" and rule.state not in exp.initial:
+            x0[model.state_index(rule.state)] = x0[model.state_index(rule.ref)]
+    return x0
+
+
+def _start(model: Model, exp: Experiment, x0: np.ndarray, p: np.ndarray):
+    """(dx, y) of the model at t0 (inputs at their first sample)."""
+    dx, y, _, _ = model.numpy_evaluate()(float(exp.inputs.t[0]), list(x0), p, list(exp.inputs.U[0]))
+    return np.array([float(np.asarray(d)) for d in dx]), np.array([float(np.asarray(v)) for v in y])
+
+
+def _to_output(model: Model, exp: Experiment, x0: np.ndarray, rule) -> None:
+    values = exp.measured.get(rule.ref)
+    finite = values[np.isfinite(values)] if values is not None else np.zeros(0)
+    if not finite.size:
+        return
+    i, o = model.state_index(rule.state), model.output_names.index(rule.ref)
+    h = 1e-6 * max(abs(x0[i]), 1e-3)
+    _, y0 = _start(model, exp, x0, model.p0)
+    x1 = x0.copy()
+    x1[i] += h
+    _, y1 = _start(model, exp, x1, model.p0)
+    slope = (y1[o] - y0[o]) / h
+    if np.isfinite(slope) and abs(slope) > 1e-9:
+        x0[i] += (finite[0] - y0[o]) / slope
+
+
+def balanced(model: Model, exp: Experiment, x0: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """x0 with every ``balance`` rule's state set so that its reference state's derivative
+    is zero at t0: Newton on the (small, linear for springs) system ∂ẋ_ref/∂x_state."""
+    rules = [r for r in model.initial_rules if r.kind == "balance" and r.state not in exp.initial]
+    if not rules:
+        return x0
+    x0 = x0.copy()
+    si = [model.state_index(r.state) for r in rules]
+    ri = [model.state_index(r.ref) for r in rules]
+    for _ in range(3):
+        dx, _ = _start(model, exp, x0, p)
+        g = dx[ri]
+        if not np.all(np.isfinite(g)):
+            return x0
+        J = np.empty((len(rules), len(rules)))
+        for c, i in enumerate(si):
+            h = 1e-6 * max(abs(x0[i]), 1.0)
+            x1 = x0.copy()
+            x1[i] += h
+            J[:, c] = (_start(model, exp, x1, p)[0][ri] - g) / h
+        try:
+            step = np.linalg.solve(J, -g)
+        except np.linalg.LinAlgError:
+            return x0
+        x0[si] += step
+        if np.all(np.abs(step) <= 1e-9 * np.maximum(np.abs(x0[si]), 1.0)):
+            break
     return x0
 
 

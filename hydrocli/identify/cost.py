@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import HydroError, IdentifyError, Problem
 from ..experiments.experiment import Experiment
-from ..experiments.initial import given_state, initial_state
+from ..experiments.initial import balanced, depends_on_parameters, given_state, initial_state
 from ..model.model import Model
 from ..solve.simulate import SolverOptions, simulate
 
@@ -91,7 +91,9 @@ class Objective:
         self.n_failed = 0
         self.size = sum(t.size for t in targets)
         self._lock = threading.Lock()
-        self._x0 = [None if t.exp.settle > 0 else initial_state(model, t.exp) for t in targets]
+        # cached unless the start depends on the parameters (a settle pre-roll, a balance rule)
+        self._x0 = [None if t.exp.settle > 0 or depends_on_parameters(model) else initial_state(model, t.exp)
+                    for t in targets]
 
     def x0(self, i: int, p: np.ndarray) -> np.ndarray:
         """Initial state of target i (settled with parameters p when the experiment asks)."""
@@ -126,8 +128,10 @@ class Objective:
             try:
                 dx0 = None
                 x0 = self._x0[i]
-                if x0 is None:
+                if x0 is None and t.exp.settle > 0:
                     x0, dx0 = self._settle_sensitivities(t.exp, p, wrt)
+                elif x0 is None:
+                    x0, dx0 = self._start_sensitivities(t.exp, p, wrt)
                 tr = output_sensitivities(self.model, t.exp.inputs, t.exp.t_out, p=p, x0=x0, wrt=wrt,
                                           opts=self.opts, s0=dx0)
             except HydroError:
@@ -159,10 +163,27 @@ class Objective:
         from ..solve.sensitivities import output_sensitivities
         from ..solve.simulate import InputTable
         frozen = InputTable(np.array([0.0]), exp.inputs.U[:1].copy())
+        start, ds = self._start_sensitivities(exp, p, wrt)
         tr = output_sensitivities(self.model, frozen, np.array([0.0, exp.settle]), p=p,
-                                  x0=given_state(self.model, exp), wrt=wrt, opts=SolverOptions(rtol=1e-6),
-                                  states=True)
+                                  x0=start, wrt=wrt, opts=SolverOptions(rtol=1e-6), states=True, s0=ds)
         return tr.X[-1].copy(), tr.dX[-1]
+
+    def _start_sensitivities(self, exp: Experiment, p: np.ndarray, wrt: list[str]):
+        """x0 before any settle run and ∂x0/∂p[wrt]: zero unless balance rules make the start
+        depend on the parameters (then finite differences of the balance: algebra at t0 only)."""
+        x0 = given_state(self.model, exp)
+        ds = np.zeros((len(x0), len(wrt)))
+        if not depends_on_parameters(self.model):
+            return x0, None
+        base = balanced(self.model, exp, x0, p)
+        for c, name in enumerate(wrt):
+            if name.startswith("x0:"):
+                continue
+            k = self.model.param_index(name)
+            q = p.copy()
+            q[k] += 1e-6 * max(abs(p[k]), 1e-12)
+            ds[:, c] = (balanced(self.model, exp, x0, q) - base) / (q[k] - p[k])
+        return base, ds
 
     def cost(self, p: np.ndarray) -> float:
         r = self.residuals(p)

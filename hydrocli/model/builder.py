@@ -27,7 +27,7 @@ from . import expr as E
 from .equations import Equations, order_variables
 from .context import Assembly, Context, NodeInfo
 from .nodes import node_equations, stamped_branches
-from .model import Model, ParamInfo, StateInfo
+from .model import InitialRule, Model, ParamInfo, StateInfo
 from .parse import ExprSyntaxError, parse_expression
 
 
@@ -69,7 +69,7 @@ def build_model(net: Netlist) -> Model:
     for i, si in enumerate(state_infos):
         if si.unit == "Pa":
             x0[i] = p_tank
-    _apply_initial(net, state_infos, x0, errs)
+    rules = _apply_initial(net, state_infos, x0, errs, output_exprs)
     errs.raise_if_any(NetlistError)
     param_infos = [_param_info(net, name, *asm.params[name]) for name in params]
     out_units = {o.name: o.unit for o in net.outputs.values()}
@@ -79,7 +79,7 @@ def build_model(net: Netlist) -> Model:
                   input_units={k: v.unit for k, v in net.inputs.items()},
                   input_hold={k: v.hold for k, v in net.inputs.items()},
                   output_units=out_units, variable_units=dict(asm.variable_units),
-                  warnings=list(asm.warnings), netlist_text=normal, file=net.file)
+                  warnings=list(asm.warnings), netlist_text=normal, file=net.file, initial_rules=rules)
     from .output_units import check_output_units
     ProblemCollector.raise_if_any(_collected(check_output_units(model, net.outputs)), UnitError)
     return model
@@ -134,12 +134,23 @@ def graph_of(net: Netlist) -> LinearGraph:
     return LinearGraph.from_terminals(terminals(net))
 
 
-def _apply_initial(net: Netlist, infos, x0, errs: ProblemCollector) -> None:
+def _apply_initial(net: Netlist, infos, x0, errs: ProblemCollector, outputs) -> list[InitialRule]:
     idx = {si.name: i for i, si in enumerate(infos)}
+    rules = []
     for name, pv in net.initial.items():
         if name not in idx:
             errs.add(f"initial value for unknown state '{name}'{suggest(name, idx)}", pv.loc,
                      "'hydro check MACHINE' lists the states")
+            continue
+        if isinstance(pv.value, dict):
+            (kind, ref), = pv.value.items()
+            known = outputs if kind == "output" else idx
+            if ref not in known or (kind != "output" and ref == name):
+                what = "output" if kind == "output" else "state"
+                errs.add(f"initial rule {{{kind}: {ref}}} of '{name}' names an unknown {what} '{ref}'"
+                         f"{suggest(ref, known)}", pv.loc, f"'hydro check MACHINE' lists the {what}s")
+            else:
+                rules.append(InitialRule(name, kind, ref))
             continue
         try:
             unit = infos[idx[name]].unit
@@ -150,6 +161,7 @@ def _apply_initial(net: Netlist, infos, x0, errs: ProblemCollector) -> None:
                 errs.add(problem, pv.loc, "give a physically valid initial value")
         except HydroError as exc:
             errs.extend(exc)
+    return rules
 
 
 def _param_info(net: Netlist, name: str, value: float, unit: str) -> ParamInfo:

@@ -24,6 +24,17 @@ class StateInfo:
     description: str
 
 
+@dataclass(frozen=True)
+class InitialRule:
+    """An initial value given by a rule, resolved per experiment (:mod:`hydrocli.experiments.initial`):
+    ``same_as`` another state's start, the first measured sample of an ``output`` (one Newton
+    step on this state), or ``balance``: the value that makes the ``ref`` state's derivative
+    zero at the start (a spring's force holding a node at rest)."""
+    state: str
+    kind: str          # same_as | output | balance
+    ref: str           # a state name (same_as, balance) or an output name (output)
+
+
 @dataclass
 class ParamInfo:
     name: str
@@ -54,6 +65,7 @@ class Model:
     warnings: list[str]
     netlist_text: str = ""
     file: str = ""
+    initial_rules: list[InitialRule] = field(default_factory=list)
     _c_source: str | None = field(default=None, repr=False)
     _compiled: object = field(default=None, repr=False)
     _numpy_fn: object = field(default=None, repr=False)

@@ -10,6 +10,11 @@ from .params import unit_of
 
 INPUT_KEYS = ("unit", "hold", "description")
 OUTPUT_KEYS = ("expr", "unit", "description")
+# initial values given by a rule instead of a number, resolved per experiment
+# (experiments.initial): start where another state starts, where an output's first measured
+# sample puts this state, or such that another state's derivative is zero (a spring's force
+# that holds a node at rest)
+INITIAL_RULES = ("same_as", "output", "balance")
 
 
 def entries(section):
@@ -89,7 +94,12 @@ def load_initial(section, defaults, errs) -> dict[str, ParamValue]:
             out[str(key)] = ParamValue(float(val), loc, unit=None)
         elif isinstance(val, str):
             out[str(key)] = ParamValue(val, loc, unit=unit_of(val))  # converted by the builder
+        elif Y.is_map(val) and len(val) == 1 and next(iter(val)) in INITIAL_RULES \
+                and isinstance(next(iter(val.values())), str):
+            kind, ref = next(iter(val.items()))
+            out[str(key)] = ParamValue({str(kind): str(ref)}, loc)      # references checked by the builder
         else:
-            errs.add(f"initial value of '{key}' must be a number or a string like '50 bar'", loc,
-                     "e.g. chamber_a.p: \"50 bar\" or piston.x: \"70 mm\"")
+            errs.add(f"initial value of '{key}' must be a number, a string like '50 bar', or one rule "
+                     f"({', '.join(f'{{{k}: NAME}}' for k in INITIAL_RULES)})", loc,
+                     "e.g. chamber_a.p: \"50 bar\", piston.x: \"70 mm\", rod.x: {same_as: load.x}")
     return out

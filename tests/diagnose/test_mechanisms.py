@@ -178,6 +178,55 @@ def test_shortlist_adds_the_best_competing_candidate_of_each_other_balance():
     assert [c.key for c in shortlist(order, scores, 3)] == ["mount", "hyst", "lag", "leak"]
 
 
+def test_once_a_compliance_is_shortlisted_every_significant_other_compliance_is_fitted():
+    from hydrocli.diagnose.engine import shortlist
+    C = lambda key, eq, eff: SimpleNamespace(key=key, equation=eq, effect=eff)
+    order = [C("lag", "measurement", "sensor_lag"), C("delay", "signal", "input_delay"),
+             C("mount", "force", "structural_flexibility"), C("link", "force", "load_compliance"),
+             C("air", "continuity", "entrained_air"), C("hose", "continuity", "line_dynamics")]
+    dr2 = {"lag": 0.13, "delay": 0.12, "mount": 0.061, "link": 0.029, "air": 0.019, "hose": 0.016}
+    scores = {k: {"dr2": v, "p_value": 1e-9} for k, v in dr2.items()}
+    assert [c.key for c in shortlist(order, scores, 3)] == ["lag", "delay", "mount", "link", "air", "hose"]
+    scores["hose"]["p_value"] = 0.2                   # not significant: not fitted
+    assert "hose" not in [c.key for c in shortlist(order, scores, 3)]
+    # no compliance among the best: none is added
+    assert [c.key for c in shortlist(order[:2] + order[3:], scores, 2)] == ["lag", "delay"]
+
+
+def test_a_rod_load_link_starts_at_rest_under_its_load_and_carries_joint_friction():
+    """The load_compliance candidate on the lift (a 1.5 t load hanging on the rod): the rod
+    starts where the measured load starts, the link's spring carries the weight at t = 0
+    (balance rule), and the joint's dry friction is a companion starting at 0."""
+    from hydrocli.experiments.experiment import Experiment
+    from hydrocli.experiments.initial import initial_state
+    from hydrocli.solve.simulate import InputTable, SolverOptions, simulate
+    net = load_netlist(ROOT / "machines" / "luffing_cylinder.yaml")
+    model0 = build_model(net)
+    ctx = Context(net, set(model0.free_params))
+    cands, _ = catalogue(ctx)
+    c = next(c for c in cands if c.effect == "load_compliance")
+    friction = [p for p in c.params if "joint_friction" in p.name]
+    assert friction and all(p.start == 0 and not p.primary for p in friction)
+    aug = c.build(net)
+    model = build_model(aug)
+    kinds = {(r.state, r.kind) for r in model.initial_rules}
+    assert ("rod.x", "same_as") in kinds and ("cylinder_coupling.dF", "balance") in kinds
+    p = model.param_vector({"cylinder_coupling.k": 2.0e6})          # a soft link: 7 Hz under 1.5 t
+    t = np.arange(0.0, 0.3, 1e-3)
+    u = np.zeros((1, len(model.input_names)))
+    u[0, model.input_names.index("Ps")] = 1.6e7
+    e = Experiment("rest", "rest.csv", InputTable(np.array([0.0]), u), t, measured={"x": np.full(t.size, 0.2)})
+    x0 = initial_state(model, e, p)
+    assert x0[model.state_index("rod.x")] == pytest.approx(0.2)
+    tr = simulate(model, e.inputs, t, p=p, x0=x0, opts=SolverOptions(rtol=1e-7))
+    x = tr.Y[:, model.output_names.index("x")]
+    weight = -float(model.p0[model.param_index("load.F_const")])
+    # a relaxed link would drop the load by up to 2·W/k = 14 mm; balanced, it moves only as
+    # the closed valve's chambers settle (well under a millimetre)
+    assert 2 * weight / 2.0e6 > 0.01
+    assert np.abs(x - 0.2).max() < 1e-3
+
+
 def test_rotary_payload_candidate_is_a_new_module_found_by_the_catalogue(tmp_path):
     """Issue 11: a new candidate is one module (candidates/payload.py) the catalogue discovers.
     On a vane drive it adds a swinging inertia J_p on a torsion 'rope' k = J_p·g/L to the arm:
