@@ -169,19 +169,24 @@ class Objective:
         return tr.X[-1].copy(), tr.dX[-1]
 
     def _start_sensitivities(self, exp: Experiment, p: np.ndarray, wrt: list[str]):
-        """x0 before any settle run and ∂x0/∂p[wrt]: zero unless balance rules make the start
-        depend on the parameters (then finite differences of the balance: algebra at t0 only)."""
+        """x0 before any settle run and ∂x0/∂p[wrt]: none unless balance rules make the start
+        depend on the parameters (then finite differences of the balance: algebra at t0 only).
+        The step is relative to the parameter OR to its bounds' width, so a parameter at 0 (a
+        weight or a friction not yet used) still moves the balance by a representable amount."""
+        from ..solve.sensitivities import X0_PREFIX
         x0 = given_state(self.model, exp)
-        ds = np.zeros((len(x0), len(wrt)))
         if not depends_on_parameters(self.model):
             return x0, None
         base = balanced(self.model, exp, x0, p)
+        ds = np.zeros((len(x0), len(wrt)))
         for c, name in enumerate(wrt):
-            if name.startswith("x0:"):
+            if name.startswith(X0_PREFIX):
                 continue
             k = self.model.param_index(name)
+            lo, hi = self.model.params[k].bounds or (0.0, 0.0)
+            width = hi - lo if np.isfinite(hi - lo) else 0.0
             q = p.copy()
-            q[k] += 1e-6 * max(abs(p[k]), 1e-12)
+            q[k] += 1e-6 * max(abs(p[k]), 1e-3 * width, 1e-12)
             ds[:, c] = (balanced(self.model, exp, x0, q) - base) / (q[k] - p[k])
         return base, ds
 

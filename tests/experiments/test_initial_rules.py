@@ -104,6 +104,28 @@ def test_sensitivities_carry_the_balanced_start():
         assert np.allclose(J[:, c], fd, rtol=1e-3, atol=1e-4 * np.abs(fd).max())
 
 
+def test_sensitivities_of_a_balance_hold_for_a_parameter_at_zero():
+    """A constant force free from 0 (bounds given) beside a recorded 196 N pull: ∂(spring
+    force)/∂F_const is the same at any value, so the finite-difference step of the balance
+    must not shrink to nothing at 0 (a step of 1e-18 N is lost on a 196 N spring force)."""
+    model = build_model(load_netlist_text(HANG.replace("{rules}", "  spring.dF: {balance: load.v}\n")
+                                          .replace(f"F_const: {{value: {-M * G}, free: true}}",
+                                                   "F_const: {value: 0.0, free: true, bounds: [-1000, 1000]}"),
+                                          "hang.yaml"))
+    t = np.arange(0.0, 0.02, 1e-3)
+    e = Experiment("e", "e.csv", InputTable(t, np.full((t.size, 1), -M * G)), t, measured={"f": np.zeros_like(t)})
+    obj = Objective(model, make_targets(model, [e]), SolverOptions(rtol=1e-10))
+    p = model.p0
+    assert p[model.param_index("mass.F_const")] == 0.0
+    _, J = obj.residuals_jacobian(p, ["mass.F_const"])
+    k = model.param_index("mass.F_const")
+    q, r = p.copy(), p.copy()
+    q[k], r[k] = 1.0, -1.0
+    fd = (obj.residuals(q) - obj.residuals(r)) / 2.0
+    assert np.abs(fd).min() > 0
+    assert np.allclose(J[:, 0], fd, rtol=1e-6)
+
+
 @pytest.mark.parametrize("rule, says", [("  spring.dF: {balance: lod.v}\n", "unknown state 'lod.v'"),
                                         ("  load.x: {output: strok}\n", "unknown output 'strok'"),
                                         ("  load.x: {equal: body.x}\n", "one rule")])
