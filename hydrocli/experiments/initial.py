@@ -62,7 +62,12 @@ def given_state(model: Model, exp: Experiment) -> np.ndarray:
 
 def _start(model: Model, exp: Experiment, x0: np.ndarray, p: np.ndarray):
     """(dx, y) of the model at t0 (inputs at their first sample)."""
-    dx, y, _, _ = model.numpy_evaluate()(float(exp.inputs.t[0]), list(x0), p, list(exp.inputs.U[0]))
+    return _evaluate(model, float(exp.inputs.t[0]), exp.inputs.U[0], x0, p)
+
+
+def _evaluate(model: Model, t0: float, u0, x0: np.ndarray, p: np.ndarray):
+    """(dx, y) of the model at (t0, x0, u0) with parameters p."""
+    dx, y, _, _ = model.numpy_evaluate()(t0, list(x0), p, list(u0))
     return np.array([float(np.asarray(d)) for d in dx]), np.array([float(np.asarray(v)) for v in y])
 
 
@@ -84,15 +89,32 @@ def _to_output(model: Model, exp: Experiment, x0: np.ndarray, rule) -> None:
 
 def balanced(model: Model, exp: Experiment, x0: np.ndarray, p: np.ndarray) -> np.ndarray:
     """x0 with every ``balance`` rule's state set so that its reference state's derivative
-    is zero at t0: Newton on the (small, linear for springs) system ∂ẋ_ref/∂x_state."""
-    rules = [r for r in model.initial_rules if r.kind == "balance" and r.state not in exp.initial]
+    is zero at t0 (inputs at their first sample)."""
+    return _balance(model, float(exp.inputs.t[0]), exp.inputs.U[0], x0, p, skip=set(exp.initial))
+
+
+def start_without_data(model: Model, p: np.ndarray | None = None) -> np.ndarray:
+    """The start state when no experiment is at hand (an exported FMU: inputs at 0, t = 0):
+    the model's defaults with ``same_as`` and ``balance`` rules applied; ``output`` rules need a
+    recording and are left at the file's number."""
+    x0 = model.x0.copy()
+    for rule in model.initial_rules:
+        if rule.kind == "same_as":
+            x0[model.state_index(rule.state)] = x0[model.state_index(rule.ref)]
+    u0 = np.zeros(len(model.input_names))
+    return _balance(model, 0.0, u0, x0, model.p0 if p is None else np.asarray(p, dtype=float), skip=set())
+
+
+def _balance(model: Model, t0: float, u0, x0: np.ndarray, p: np.ndarray, skip: set) -> np.ndarray:
+    """Newton on the (small, linear for springs) system ∂ẋ_ref/∂x_state = 0 of the balance rules."""
+    rules = [r for r in model.initial_rules if r.kind == "balance" and r.state not in skip]
     if not rules:
         return x0
     x0 = x0.copy()
     si = [model.state_index(r.state) for r in rules]
     ri = [model.state_index(r.ref) for r in rules]
     for _ in range(3):
-        dx, _ = _start(model, exp, x0, p)
+        dx, _ = _evaluate(model, t0, u0, x0, p)
         g = dx[ri]
         if not np.all(np.isfinite(g)):
             return x0
@@ -101,7 +123,7 @@ def balanced(model: Model, exp: Experiment, x0: np.ndarray, p: np.ndarray) -> np
             h = 1e-6 * max(abs(x0[i]), 1.0)
             x1 = x0.copy()
             x1[i] += h
-            J[:, c] = (_start(model, exp, x1, p)[0][ri] - g) / h
+            J[:, c] = (_evaluate(model, t0, u0, x1, p)[0][ri] - g) / h
         try:
             step = np.linalg.solve(J, -g)
         except np.linalg.LinAlgError:

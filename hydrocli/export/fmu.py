@@ -27,6 +27,7 @@ import numpy as np
 
 from ..version import __version__
 from ..errors import HydroError, Problem, SolverError
+from ..experiments.initial import start_without_data
 from ..model.model import Model
 from ..solve.compiled import CFLAGS, LDLIBS, integrator_source
 from ..solve.simulate import SolverOptions
@@ -143,10 +144,12 @@ def _compile(src_dir: Path, glue: str, so_path: Path) -> None:
 
 def export_fmu(model: Model, out: str | Path, opts: ExportOptions | None = None,
                x0: np.ndarray | None = None) -> Path:
-    """Write ``out`` (.fmu) for ``model`` with its current parameter values as start values."""
+    """Write ``out`` (.fmu) for ``model`` with its current parameter values as start values;
+    the states start at the file's values with its ``same_as`` and ``balance`` initial rules
+    applied (inputs at 0); ``output`` rules need a recording and keep the file's number."""
     opts = opts or ExportOptions()
     kinds = _kinds(opts)
-    x0 = model.x0 if x0 is None else np.asarray(x0, dtype=float)
+    x0 = start_without_data(model) if x0 is None else np.asarray(x0, dtype=float)
     out = Path(out)
     plat = _platform_dir(opts.fmi)
     layout = fmu_layout(model, x0)

@@ -12,7 +12,6 @@ Without them the FMU sees zero-order-held inputs and differs from ``hydro simula
 hold, not by the model (about 12 % of the EHA pressure range at a 1 ms recording).
 """
 from __future__ import annotations
-from hydrocli.experiments.initial import initial_state
 
 from ctypes import c_double
 from pathlib import Path
@@ -20,6 +19,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from typer.testing import CliRunner
+
+from hydrocli.experiments.initial import initial_state
 
 try:
     import fmpy

@@ -2,7 +2,6 @@
 co-simulation has no input derivatives, so recorded inputs would be held between
 communication points) it agrees with ``hydro simulate`` within 0.1 % of each output's range."""
 from __future__ import annotations
-from hydrocli.experiments.initial import initial_state
 
 from pathlib import Path
 
@@ -10,6 +9,7 @@ import pytest
 
 from hydrocli.api import load_experiment, load_machine
 from hydrocli.export import ExportOptions
+from hydrocli.experiments.initial import initial_state
 
 fmpy = pytest.importorskip("fmpy")
 
