@@ -100,7 +100,17 @@ def run_case(folder: Path, jobs: int, progress) -> dict:
             "base_parameters": [{k: b.get(k) for k in ("name", "value", "initial", "stderr")}
                                 for b in data.get("base_parameters", [])],
             "gap_closed": gap_closed(before, after, t["noise"]) if err is None else False,
-            "seconds": wall, "error": err}
+            "seconds": wall, "error": err, "candidates": _candidate_rows(data),
+            "noise_validation": (data.get("tests") or {}).get("noise_esr_validation", {}),
+            "n_eff_validation": {o: w.get("n_eff") for o, w in
+                                 ((data.get("tests") or {}).get("whiteness") or {}).items()}}
+
+
+def _candidate_rows(data: dict) -> list[dict]:
+    """Every fitted candidate's acceptance figures (dev study of acceptance rules offline)."""
+    keep = ("effect", "component", "round", "passed", "reasons", "delta_bic", "validation_gain",
+            "noise_band", "esr_validation_after", "screening_explained")
+    return [{k: r.get(k) for k in keep} for r in data.get("ranking", []) if r.get("fitted")]
 
 
 def _pct(a, b):
