@@ -34,14 +34,12 @@ from ..netlist.model import Netlist
 from ..progress import status
 from . import (accept, augment, baseline, design, findings, locate, nuisance, residuals, restrain, runaway, stats,
                travel, workers)
-from .candidates import Candidate, Context, catalogue
+from .candidates import COMPLIANCES, SWITCHING, Candidate, Context, catalogue
 from .equations import equation_errors, measured_states
 from .measurement import sensed_states, with_pressure_sensors
 
 
 CONTROL = "control: current model, same budget"
-SWITCHING = frozenset({"coulomb_friction", "stribeck_friction", "pressure_dependent_friction", "end_stop",
-                       "valve_hysteresis", "valve_overlap"})   # effects whose law switches (sign, contact, band)
 ALTERNATIVE = 0.8   # another passing effect with ΔBIC ≥ 80 % of the winner's is reported as nearly as good
 
 
@@ -400,11 +398,11 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
 
 RIVAL_P = 1e-3      # a balance whose best candidate's score test is significant at this level …
 RIVAL_SHARE = 1 / 3  # … and explains at least a third of what the top candidate explains is fitted too
-# compliances: each adds a mode whose frequency moves with its stiffness, so a score test —
-# a secant at a few stiffnesses — ranks them poorly against each other (a rod–load link with
-# a sticking joint screened 2.9 % beside a mount's 6.1 %, and fitted, explained 5× more):
-# once one is shortlisted, every significant other is fitted too and the fits decide
-COMPLIANCES = frozenset({"entrained_air", "line_dynamics", "load_compliance", "structural_flexibility"})
+# compliances (declared by their families, candidates.COMPLIANCES): each adds a mode whose
+# frequency moves with its stiffness, so a score test — a secant at a few stiffnesses — ranks
+# them poorly against each other (a rod–load link with a sticking joint screened 2.9 % beside a
+# mount's 6.1 %, and fitted, explained 5× more): once one is shortlisted, every significant
+# other is fitted too and the fits decide
 
 
 def shortlist(order: list[Candidate], scores: dict, n_fit: int) -> list[Candidate]:

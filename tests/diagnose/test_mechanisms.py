@@ -193,6 +193,20 @@ def test_once_a_compliance_is_shortlisted_every_significant_other_compliance_is_
     assert [c.key for c in shortlist(order[:2] + order[3:], scores, 2)] == ["lag", "delay"]
 
 
+def test_effect_traits_are_declared_by_the_family_that_models_the_effect():
+    """Issue 11: the engine reads which effects switch and which are compliances from the
+    families (a new candidate module declares its own), never from a list of names of its own."""
+    import hydrocli.diagnose.engine as engine
+    from hydrocli.diagnose.candidates import COMPLIANCES, FAMILIES, SWITCHING, VOCABULARY
+    for f in FAMILIES:
+        assert f.switching <= set(f.effects) and f.compliances <= set(f.effects), type(f).__name__
+        assert set(f.effects) <= set(VOCABULARY), type(f).__name__
+    assert engine.SWITCHING is SWITCHING and engine.COMPLIANCES is COMPLIANCES
+    # the four ways a machine gets softer than its file: air, a hose, a rod-load link, a mount
+    assert {"entrained_air", "line_dynamics", "load_compliance", "structural_flexibility"} == COMPLIANCES
+    assert not COMPLIANCES & SWITCHING
+
+
 def test_a_rod_load_link_starts_at_rest_under_its_load_and_carries_joint_friction():
     """The load_compliance candidate on the lift (a 1.5 t load hanging on the rod): the rod
     starts where the measured load starts, the link's spring carries the weight at t = 0

@@ -26,6 +26,8 @@ def _discover() -> tuple[Family, ...]:
 
 
 FAMILIES = _discover()
+SWITCHING = frozenset().union(*(f.switching for f in FAMILIES))       # effects whose law switches
+COMPLIANCES = frozenset().union(*(f.compliances for f in FAMILIES))   # effects that add a compliance
 
 
 def catalogue(ctx: Context) -> tuple[list[Candidate], list[Skipped]]:
@@ -39,4 +41,4 @@ def catalogue(ctx: Context) -> tuple[list[Candidate], list[Skipped]]:
     return cands, skipped
 
 
-__all__ = ["VOCABULARY", "Candidate", "Context", "NewParam", "Skipped", "catalogue", "FAMILIES"]
+__all__ = ["VOCABULARY", "Candidate", "Context", "NewParam", "Skipped", "catalogue", "FAMILIES", "SWITCHING", "COMPLIANCES"]

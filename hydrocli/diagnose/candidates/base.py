@@ -169,6 +169,13 @@ class Family:
     cannot attach anywhere in this machine, each with a reason)."""
 
     effects: tuple[str, ...] = ()
+    # traits the engine reads (declared here, by the family that models the effect, so a new
+    # candidate module needs no edit elsewhere):
+    switching: frozenset[str] = frozenset()     # effects whose law switches (sign, contact, band):
+                                                # fitted on both Jacobians (engine)
+    compliances: frozenset[str] = frozenset()   # effects that add a compliance (a mode whose
+                                                # frequency moves with its stiffness): once one is
+                                                # shortlisted the others are fitted too (engine.shortlist)
 
     def candidates(self, ctx: Context) -> list[Candidate]:  # pragma: no cover - abstract
         raise NotImplementedError

@@ -11,6 +11,7 @@ from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 class CircuitFamily(Family):
     effects = ("line_dynamics", "supply_pressure_drop")
+    compliances = frozenset({"line_dynamics"})
 
     def candidates(self, ctx: Context):
         out = []

@@ -22,6 +22,7 @@ _FORMS = {
 
 class FrictionFamily(Family):
     effects = ("viscous_friction", "coulomb_friction", "stribeck_friction", "pressure_dependent_friction")
+    switching = frozenset({"coulomb_friction", "stribeck_friction", "pressure_dependent_friction"})
 
     def candidates(self, ctx: Context):
         out = []

@@ -33,6 +33,8 @@ REF_SIZE = 2.0994e-3   # m²: seed 004's piston area, where the leakage ranges b
 
 class CylinderFamily(Family):
     effects = ("internal_leakage", "external_leakage", "entrained_air", "end_stop")
+    switching = frozenset({"end_stop"})
+    compliances = frozenset({"entrained_air"})
 
     def candidates(self, ctx: Context):
         out = []

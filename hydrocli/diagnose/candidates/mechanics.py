@@ -23,6 +23,7 @@ G = 9.81
 
 class MechanicsFamily(Family):
     effects = ("load_compliance", "structural_flexibility", "payload_swing")
+    compliances = frozenset({"load_compliance", "structural_flexibility"})
 
     def candidates(self, ctx: Context):
         out = []

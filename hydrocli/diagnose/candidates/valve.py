@@ -12,6 +12,7 @@ from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 class ValveFamily(Family):
     effects = ("valve_overlap", "valve_asymmetry", "valve_hysteresis")
+    switching = frozenset({"valve_hysteresis", "valve_overlap"})
 
     def candidates(self, ctx: Context):
         valves = ctx.parts(R.METERING_VALVE)
