@@ -48,3 +48,19 @@ def test_find_cases_filters_by_split(tmp_path):
     assert len(bench.find_cases(demo, "dev", None, None, None)) == 3
     assert bench.find_cases(demo, "heldout", None, None, None) == []
     assert len(bench.find_cases(demo, "dev", ["rotary"], None, None)) == 1
+
+
+def test_acceptance_study_replays_the_band_and_keeps_every_other_reason():
+    spec = importlib.util.spec_from_file_location(
+        "acceptance_study", Path(__file__).parents[1] / "benchmarks" / "acceptance_study.py")
+    study = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(study)
+    row = {"effect": "sensor_lag", "esr_before": {"P1": 0.5, "v": 0.9}, "noise_validation": {"P1": 0.25, "v": 0.4},
+           "candidates": [
+               {"effect": "sensor_lag", "round": 1, "delta_bic": -900.0, "validation_gain": 0.3,
+                "reasons": ["validation ESR gain 0.3 % is within the noise band (0.65 %)"]},
+               {"effect": "input_delay", "round": 1, "delta_bic": -2000.0, "validation_gain": 0.5,
+                "reasons": ["u_delay.T poorly determined (±80 % of its effect)"]}]}
+    # band = max(kappa * 0.65, 0.15 * 0.75): the gain 0.3 passes below kappa ≈ 0.46 only
+    assert study.named(row, 1.0) == "none"
+    assert study.named(row, 0.25) == "sensor_lag"       # the better-BIC delay stays out: imprecise
