@@ -54,15 +54,15 @@ def given_state(model: Model, exp: Experiment) -> np.ndarray:
     for rule in model.initial_rules:
         if rule.kind == "output" and exp.initial_from_data and rule.state not in exp.initial:
             _to_output(model, exp, x0, rule)
+    return _same_as(model, x0, skip=set(exp.initial))
+
+
+def _same_as(model: Model, x0: np.ndarray, skip: set) -> np.ndarray:
+    """x0 with every ``same_as`` rule's state (not in ``skip``) set to its reference's start."""
     for rule in model.initial_rules:
-        if rule.kind == "same_as" and rule.state not in exp.initial:
+        if rule.kind == "same_as" and rule.state not in skip:
             x0[model.state_index(rule.state)] = x0[model.state_index(rule.ref)]
     return x0
-
-
-def _start(model: Model, exp: Experiment, x0: np.ndarray, p: np.ndarray):
-    """(dx, y) of the model at t0 (inputs at their first sample)."""
-    return _evaluate(model, float(exp.inputs.t[0]), exp.inputs.U[0], x0, p)
 
 
 def _evaluate(model: Model, t0: float, u0, x0: np.ndarray, p: np.ndarray):
@@ -77,11 +77,12 @@ def _to_output(model: Model, exp: Experiment, x0: np.ndarray, rule) -> None:
     if not finite.size:
         return
     i, o = model.state_index(rule.state), model.output_names.index(rule.ref)
+    t0, u0 = float(exp.inputs.t[0]), exp.inputs.U[0]
     h = 1e-6 * max(abs(x0[i]), 1e-3)
-    _, y0 = _start(model, exp, x0, model.p0)
+    _, y0 = _evaluate(model, t0, u0, x0, model.p0)
     x1 = x0.copy()
     x1[i] += h
-    _, y1 = _start(model, exp, x1, model.p0)
+    _, y1 = _evaluate(model, t0, u0, x1, model.p0)
     slope = (y1[o] - y0[o]) / h
     if np.isfinite(slope) and abs(slope) > 1e-9:
         x0[i] += (finite[0] - y0[o]) / slope
@@ -97,10 +98,7 @@ def start_without_data(model: Model, p: np.ndarray | None = None) -> np.ndarray:
     """The start state when no experiment is at hand (an exported FMU: inputs at 0, t = 0):
     the model's defaults with ``same_as`` and ``balance`` rules applied; ``output`` rules need a
     recording and are left at the file's number."""
-    x0 = model.x0.copy()
-    for rule in model.initial_rules:
-        if rule.kind == "same_as":
-            x0[model.state_index(rule.state)] = x0[model.state_index(rule.ref)]
+    x0 = _same_as(model, model.x0.copy(), skip=set())
     u0 = np.zeros(len(model.input_names))
     return _balance(model, 0.0, u0, x0, model.p0 if p is None else np.asarray(p, dtype=float), skip=set())
 
