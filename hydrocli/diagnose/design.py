@@ -43,6 +43,7 @@ from ..units import from_si
 
 DURATION = 12.0    # s of each designed test
 RATE = 500.0       # Hz
+SUPPLY_LEVELS = (1.0, 0.6, 0.35)   # shares of the recorded supply pressure in the pressure-level test
 REFIT_TOP = 3      # designs scored after re-fitting the rival
 MAX_STEP = 2.0 / RATE   # s: designs hold an input for seconds and then change it within 10 ms; the
                         # diagnosis's loose nominal-tolerance integration (residuals.OPTS) can step
@@ -66,6 +67,19 @@ def command_inputs(net) -> set[str]:
         role = cls.role(R.METERING_VALVE) if cls is not None else None
         if role is not None and role.port("command") in d.ports:
             node = d.ports[role.port("command")]
+            if node in net.inputs:
+                out.add(node)
+    return out
+
+
+def supply_inputs(net) -> set[str]:
+    """Machine inputs that set a pressure source's pressure (by role): the supply."""
+    out = set()
+    for d in net.components.values():
+        cls = registry.get(d.type)
+        role = cls.role(R.PRESSURE_SOURCE) if cls is not None else None
+        if role is not None and role.port("reference") in d.ports:
+            node = d.ports[role.port("reference")]
             if node in net.inputs:
                 out.add(node)
     return out
@@ -114,6 +128,23 @@ def designs(model, net, train) -> list[Design]:
         ins[n] = {"table": {"t": [0, 2, 2.01, 4, 4.01, 6, 6.01, 8, 8.01, DURATION],
                             "values": [c, c, a, a, c, c, b, b, c, c]}}
     out.append(Design("command_steps", "command steps of ±0.3·std around its median, held 2 s each", ins))
+    # the same small sine with the supply lowered in steps (a relief valve set lower: always
+    # safe for the machine): a stiffness that depends on pressure — undissolved air, which
+    # softens as the chamber pressure falls (Gholizadeh, Burton & Schoenau 2011) — moves the
+    # response between the levels; a mount's or a link's does not. The levels are shares of
+    # the recorded supply (a load the machine holds with a third of its supply stays held)
+    supplies = sorted(supply_inputs(net) & set(model.input_names))
+    for f in (1.0, 5.0) if supplies else ():
+        ins = held(cmds)
+        for n in cmds:
+            ins[n] = {"sine": {"amplitude": val(n, 0.1 * st[n][1]) - val(n, 0.0), "frequency": f"{f} Hz",
+                               "offset": val(n, centre[n])}}
+        for n in supplies:
+            ins[n] = {"table": _levels([val(n, st[n][0] * k) for k in SUPPLY_LEVELS])}
+        out.append(Design(f"sine_{f:g}Hz_supply_levels",
+                          f"command sine, {f:g} Hz, 0.1·std of the recorded command around its median, the supply "
+                          "pressure held at " + ", ".join(f"{k:g}" for k in SUPPLY_LEVELS) + " of its recorded "
+                          "mean in turn: shows whether a stiffness depends on pressure", ins))
     for other in (n for n in model.input_names if n not in cmds):
         lo, hi = st[other][2], st[other][3]
         if hi - lo <= 1e-12 * max(abs(hi), 1.0):
@@ -126,6 +157,20 @@ def designs(model, net, train) -> list[Design]:
         out.append(Design(f"ramp_{other}", f"slow ramp of '{other}' over its recorded range and back, the "
                           "command held at its median (standstill): shows whether a stiffness depends on pressure", ins))
     return out
+
+
+def _levels(values: list[float], ramp: float = 0.5) -> dict:
+    """A table holding each value for an equal share of the test, ramping between them in
+    ``ramp`` seconds."""
+    span = DURATION / len(values)
+    t, out = [0.0], [values[0]]
+    for k, v in enumerate(values):
+        if k:
+            t.append(k * span + ramp)
+            out.append(v)
+        t.append((k + 1) * span)
+        out.append(v)
+    return {"t": t, "values": out}
 
 
 def experiment_text(d: Design, machine_name: str, effects: tuple[str, ...] = ()) -> str:

@@ -1,18 +1,20 @@
 """Ambiguity end to end (issue 10): on a vane pendulum whose oil carries isothermal, partly
 dissolving air (the family's independent truth, experiments/family), the training data let
-entrained air and a compliant rod–load coupling explain the recordings nearly alike. The
-diagnosis must say so and propose a discriminating experiment; that experiment is then
-RECORDED on the truth (experiments/family/record.py: the independent simulator, sensor noise)
-and the diagnosis is run again with it among the training data, restricted to the two
-effects as the proposal says (--only A --only B): air must still come first, and the
-proposal's own prediction — "decisive" or not, its ESR gap after the rival is re-fitted
-against the noise band — must be what happens. (On this case it predicts, and gets, no
-decision: re-fitted on the new record both models predict it within the band.)
+entrained air and another compliance (a hose's volume; restricted to them, a compliant
+rod–load link) explain the recordings nearly alike. The diagnosis must say so and propose a
+discriminating experiment; that experiment is then RECORDED on the truth
+(experiments/family/record.py: the independent simulator, sensor noise) and the diagnosis is
+run again with it among the training data, restricted to the two effects as the proposal says
+(--only A --only B). The proposal is the pressure-level test (a small command sine with the
+supply lowered to 0.6 and 0.35 of the recorded one: air softens as the pressure falls, a
+constant stiffness does not), it predicts that its recording decides, and it does: air is
+accepted, the rival fails, no ambiguity is left. (Before that test existed every proposal —
+sines, steps, ramps at the recorded supply — predicted, and got, no decision: re-fitted on
+the new record both models predicted it within the noise band.)
 
-Slow (two diagnoses of a 20 s case plus generating it: a few minutes on two cores)."""
+Slow (two diagnoses of a 20 s case per rival plus generating it: a few minutes on two cores)."""
 from __future__ import annotations
 
-import json
 import os
 import sys
 from pathlib import Path
@@ -34,12 +36,13 @@ def case(tmp_path_factory):
     return out / "rotary" / "rotary__entrained_air__isothermal_dissolving__s1"
 
 
-def test_air_against_a_compliance_is_ambiguous_and_the_proposal_predicts_its_own_outcome(case, tmp_path):
+@pytest.mark.parametrize("only", [(), ("entrained_air", "load_compliance")], ids=["any-rival", "link"])
+def test_air_against_a_compliance_is_ambiguous_and_the_pressure_level_test_decides(case, tmp_path, only):
     from experiments.family.record import record
     from hydrocli.diagnose import Settings, diagnose
     from hydrocli.diagnose.summary import write_proposals
 
-    d1 = diagnose(case / "base.yaml", [case / "train.csv"], [case / "validate.csv"], Settings(jobs=2))
+    d1 = diagnose(case / "base.yaml", [case / "train.csv"], [case / "validate.csv"], Settings(jobs=2, only=only))
     assert d1.data["effects"][0] == "entrained_air"
     amb = d1.data.get("ambiguous") or []
     pair = next(a for a in amb if "entrained_air" in a["effects"])
@@ -47,8 +50,10 @@ def test_air_against_a_compliance_is_ambiguous_and_the_proposal_predicts_its_own
     # another compliance: a hose's volume, a compliant rod–load link or mount
     assert rival in ("line_dynamics", "load_compliance", "structural_flexibility")
     prop = pair["proposed_experiment"]
+    assert prop["name"].endswith("supply_levels")
     assert prop["discrimination"] > 100.0          # χ² left after the rival is re-fitted to air's prediction
     assert prop["discrimination_held"] >= prop["discrimination"]
+    assert prop["decisive"] and prop["esr_gap"] > prop["band"]
     paths = write_proposals(d1, tmp_path)
     text = paths[0].read_text()
     assert "--only entrained_air" in text and f"--only {rival}" in text
@@ -57,9 +62,7 @@ def test_air_against_a_compliance_is_ambiguous_and_the_proposal_predicts_its_own
     assert record(case, paths[0], rec)["ok"]
     d2 = diagnose(case / "base.yaml", [case / "train.csv", rec], [case / "validate.csv"],
                   Settings(jobs=2, only=("entrained_air", rival)))
-    assert d2.data["effects"][0] == "entrained_air"
-    # the proposal said whether its recording would decide (its ESR gap after the refit against
-    # the noise band the diagnosis decides with); the re-diagnosis must agree with it
-    still = any(set(a["effects"]) == {"entrained_air", rival} for a in d2.data.get("ambiguous", []))
-    assert still == (not prop["decisive"])
-    assert json.dumps(d2.data["ranking"], default=str)
+    # decided: air accepted, the rival fails on the recording, no ambiguity left
+    assert d2.data["effects"] == ["entrained_air"]
+    assert not any(set(a["effects"]) == {"entrained_air", rival} for a in d2.data.get("ambiguous", []))
+    assert not any(r["effect"] == rival and r.get("passed") for r in d2.data["ranking"])
