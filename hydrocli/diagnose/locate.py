@@ -43,8 +43,10 @@ def regimes(model: Model, exp, kinds: dict[str, str]) -> dict[str, np.ndarray]:
     """Boolean masks of the regimes on the experiment's time grid, from measured signals."""
     t, n = exp.t_out, exp.t_out.size
     out: dict[str, np.ndarray] = {}
-    vel = next((exp.measured[o] for o, k in kinds.items() if k == "velocity" and o in exp.measured), None)
-    pos = next((exp.measured[o] for o, k in kinds.items() if k == "position" and o in exp.measured), None)
+    # a rotary machine's angle and speed define its regimes as a cylinder's position and velocity do
+    vel = next((exp.measured[o] for o, k in kinds.items() if k in ("velocity", "angular_velocity")
+                and o in exp.measured), None)
+    pos = next((exp.measured[o] for o, k in kinds.items() if k in ("position", "angle") and o in exp.measured), None)
     if vel is None and pos is not None:
         vel = np.gradient(pos, t)
     if vel is not None:

@@ -497,3 +497,24 @@ def test_an_unexplained_mismatch_says_when_held_out_positions_leave_the_training
                          "beyond_training": {"x": {"train": [0.046, 0.1125], "validate": [0.059, 0.1288]}}}}
     text = console_summary(SimpleNamespace(data=d))
     assert "beyond the training's 0.046 … 0.1125" in text and "Add a training recording" in text
+
+
+def test_a_rotary_drive_offers_a_lag_of_its_angle_and_speed_sensor():
+    """The sensor-lag candidate reads a rotary machine's angle/speed outputs as it reads a
+    cylinder's position/velocity (rotary cases had no motion-sensor candidate at all): the
+    augmented machine reads theta and w through a rotary_motion_sensor whose lag is free."""
+    from hydrocli.diagnose.locate import output_quantities
+    from hydrocli.model.builder import build_model
+    net = load_netlist(ROOT / "machines" / "rotary_drive.yaml")
+    model = build_model(net)
+    cands, _ = catalogue(Context(net, set(), {"arm_node": (-0.5, 0.5)}, output_quantities(model), {}))
+    lag = [c for c in cands if c.effect == "sensor_lag" and c.component == "arm_node"]
+    assert len(lag) == 1
+    net2 = lag[0].build(net)
+    aug = build_model(net2)
+    tau = lag[0].params[0].name
+    assert tau in aug.free_params
+    sens = tau.rsplit(".", 1)[0]
+    assert net2.components[sens].type == "rotary_motion_sensor"
+    assert net2.outputs["w"].expr == f"{sens}.w" and net2.outputs["theta"].expr == f"{sens}.theta"
+    assert net2.outputs["P1"].expr == net.outputs["P1"].expr

@@ -4,7 +4,7 @@ encoder's filter, behave so (ISO 16028-style dynamic pressure calibration; Jelal
 *Hydraulic Servo-systems*, §6.5, sensor dynamics). Outputs then read ``<sensor>.y``."""
 from __future__ import annotations
 
-from ..base import Component, H, Param, Port, StateSpec, T, VariableSpec
+from ..base import Component, H, Param, Port, R, StateSpec, T, VariableSpec
 from ..dynamics import first_order
 from ..registry import register
 
@@ -51,3 +51,27 @@ class MotionSensor(Component):
         c.der("vm", first_order(vm, c.across("a"), c.p.tau))
         c.let("x", xm)
         c.let("v", vm)
+
+
+@register
+class RotaryMotionSensor(Component):
+    """Angle and angular-velocity sensor with lag on a rotational node (an encoder or
+    tachometer with its filter): measured θ_m, ω_m follow the node's angle and speed through
+    1/(1 + τs)."""
+
+    type = "rotary_motion_sensor"
+    family = "effects"
+    description = "Angle/angular-velocity sensor with a first-order lag (measured theta, w)"
+    source = "first-order sensor model, Jelali & Kroll §6.5"
+    ports = (Port("a", R, "sensed node"),)
+    parameters = (_TAU,)
+    states = (StateSpec("thm", "rad", "measured angle", nominal=1e-3),
+              StateSpec("wm", "rad/s", "measured angular velocity", nominal=1e-2))
+    variables = (VariableSpec("theta", "rad", "measured angle"), VariableSpec("w", "rad/s", "measured angular velocity"))
+
+    def equations(self, c):
+        thm, wm = c.state("thm"), c.state("wm")
+        c.der("thm", first_order(thm, c.position("a"), c.p.tau))
+        c.der("wm", first_order(wm, c.across("a"), c.p.tau))
+        c.let("theta", thm)
+        c.let("w", wm)

@@ -38,10 +38,16 @@ class InputDelayFamily(Family):
         return out or [Skipped("input_delay", "no machine input drives a component")]
 
 
+MOTION = ("position", "velocity", "angle", "angular_velocity")   # output quantities a motion sensor reads
+ROTARY = ("angle", "angular_velocity")
+SLOW_SENSOR_MAX = 1.0   # s: a pressure read through a gauge snubber or a long thin sensing line
+                        # (a damping orifice is fitted to calm a gauge) lags by up to about a second
+
+
 class SensorLagFamily(Family):
     """Pressure-sensor lags are always estimated as nuisance parameters (bounds up to a
     typical transducer's few ms, :mod:`..measurement`); this candidate lets them grow to
-    100 ms, and adds a lag to position/velocity outputs."""
+    ``SLOW_SENSOR_MAX``, and adds a lag to position/velocity (angle/speed) outputs."""
 
     effects = ("sensor_lag",)
 
@@ -50,7 +56,8 @@ class SensorLagFamily(Family):
         sensors = sensor_components(ctx.net)
         if sensors:
             params = [NewParam(f"{s}.tau", min(ctx.value(f"{s}.tau"), PRESSURE_TAU_BOUNDS[1]),
-                               (PRESSURE_TAU_BOUNDS[0], 0.1), (CLEARLY_SLOW, 0.1), 0.01, True) for s in sensors]
+                               (PRESSURE_TAU_BOUNDS[0], SLOW_SENSOR_MAX), (CLEARLY_SLOW, SLOW_SENSOR_MAX), 0.01, True)
+                      for s in sensors]
 
             def widen(net, params=params):
                 for p in params:
@@ -58,18 +65,20 @@ class SensorLagFamily(Family):
                 return net
             out.append(Candidate("sensor_lag", sensors[0], params, widen, "measurement",
                                  "pressure sensors slower than a typical transducer"))
-        motion = sorted({n for o, q in ctx.outputs.items() if q in ("position", "velocity")
+        motion = sorted({(n, q in ROTARY) for o, q in ctx.outputs.items() if q in MOTION
                          for n in _nodes_of(ctx, o)})
-        for node in motion:
+        for node, rotary in motion:
             sens = A.unique_name(ctx.net, f"{node}_sensor")
             tau = f"{sens}.tau"
+            typ, (pos, vel) = ("rotary_motion_sensor", ("theta", "w")) if rotary else ("motion_sensor", ("x", "v"))
 
-            def build(net, node=node, sens=sens, tau=tau):
-                net = A.add(net, sens, "motion_sensor", {"a": node})
-                net = A.rewrite_outputs(net, {f"{node}.x": f"{sens}.x", f"{node}.v": f"{sens}.v"})
+            def build(net, node=node, sens=sens, tau=tau, typ=typ, pos=pos, vel=vel):
+                net = A.add(net, sens, typ, {"a": node})
+                net = A.rewrite_outputs(net, {f"{node}.{pos}": f"{sens}.{pos}", f"{node}.{vel}": f"{sens}.{vel}"})
                 return A.free(net, tau, 1e-4, (1e-5, 0.1), True)
             out.append(Candidate("sensor_lag", node, [NewParam(tau, 1e-4, (1e-5, 0.1), (1e-3, 0.1), 5e-3, True)],
-                                 build, "measurement", f"lag of the position/velocity sensor on '{node}'"))
+                                 build, "measurement", f"lag of the {'angle/speed' if rotary else 'position/velocity'} "
+                                                       f"sensor on '{node}'"))
         return out or [Skipped("sensor_lag", "no sensed output")]
 
 
