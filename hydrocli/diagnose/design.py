@@ -61,25 +61,22 @@ class Design:
 
 def command_inputs(net) -> set[str]:
     """Machine inputs that drive a metering valve's command (by role)."""
-    out = set()
-    for d in net.components.values():
-        cls = registry.get(d.type)
-        role = cls.role(R.METERING_VALVE) if cls is not None else None
-        if role is not None and role.port("command") in d.ports:
-            node = d.ports[role.port("command")]
-            if node in net.inputs:
-                out.add(node)
-    return out
+    return _inputs_on(net, R.METERING_VALVE, "command")
 
 
 def supply_inputs(net) -> set[str]:
     """Machine inputs that set a pressure source's pressure (by role): the supply."""
+    return _inputs_on(net, R.PRESSURE_SOURCE, "reference")
+
+
+def _inputs_on(net, role_name: str, slot: str) -> set[str]:
+    """Machine inputs connected to the ``slot`` port of components offering ``role_name``."""
     out = set()
     for d in net.components.values():
         cls = registry.get(d.type)
-        role = cls.role(R.PRESSURE_SOURCE) if cls is not None else None
-        if role is not None and role.port("reference") in d.ports:
-            node = d.ports[role.port("reference")]
+        role = cls.role(role_name) if cls is not None else None
+        if role is not None and role.port(slot) in d.ports:
+            node = d.ports[role.port(slot)]
             if node in net.inputs:
                 out.add(node)
     return out

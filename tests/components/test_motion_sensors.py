@@ -24,3 +24,19 @@ components:
     assert col(m, tr, "arm.w") == pytest.approx(a * t, abs=1e-9)
     assert col(m, tr, "enc.wm") == pytest.approx(a * (t - TAU * decay), abs=1e-6)
     assert col(m, tr, "enc.thm") == pytest.approx(a * (t ** 2 / 2 - TAU * t + TAU ** 2 * decay), abs=1e-6)
+
+
+def test_linear_sensor_lags_position_and_velocity_alike():
+    """The same closed forms for a mass m pushed by a constant force F (a = F/m)."""
+    text = f"""
+name: pushed
+components:
+  m: {{type: mass, ports: {{m: rod}}, m: {J}}}
+  push: {{type: force_source, ports: {{a: rod}}, F0: {T}}}
+  lvdt: {{type: motion_sensor, ports: {{a: rod}}, tau: {TAU}}}
+"""
+    m, tr, _ = run(text, 0.5, n=501)
+    t, a = tr.t, T / J
+    decay = 1.0 - np.exp(-t / TAU)
+    assert col(m, tr, "lvdt.vm") == pytest.approx(a * (t - TAU * decay), abs=1e-6)
+    assert col(m, tr, "lvdt.xm") == pytest.approx(a * (t ** 2 / 2 - TAU * t + TAU ** 2 * decay), abs=1e-6)

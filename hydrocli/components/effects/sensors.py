@@ -46,11 +46,7 @@ class MotionSensor(Component):
     variables = (VariableSpec("x", "m", "measured position"), VariableSpec("v", "m/s", "measured velocity"))
 
     def equations(self, c):
-        xm, vm = c.state("xm"), c.state("vm")
-        c.der("xm", first_order(xm, c.position("a"), c.p.tau))
-        c.der("vm", first_order(vm, c.across("a"), c.p.tau))
-        c.let("x", xm)
-        c.let("v", vm)
+        _lagged_motion(c, ("xm", "x"), ("vm", "v"))
 
 
 @register
@@ -70,8 +66,12 @@ class RotaryMotionSensor(Component):
     variables = (VariableSpec("theta", "rad", "measured angle"), VariableSpec("w", "rad/s", "measured angular velocity"))
 
     def equations(self, c):
-        thm, wm = c.state("thm"), c.state("wm")
-        c.der("thm", first_order(thm, c.position("a"), c.p.tau))
-        c.der("wm", first_order(wm, c.across("a"), c.p.tau))
-        c.let("theta", thm)
-        c.let("w", wm)
+        _lagged_motion(c, ("thm", "theta"), ("wm", "w"))
+
+
+def _lagged_motion(c, position: tuple[str, str], speed: tuple[str, str]) -> None:
+    """τ·dy/dt = u − y for the node's position and its speed; (state, variable) names."""
+    for (state, var), value in ((position, c.position("a")), (speed, c.across("a"))):
+        y = c.state(state)
+        c.der(state, first_order(y, value, c.p.tau))
+        c.let(var, y)
