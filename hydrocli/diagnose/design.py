@@ -108,13 +108,19 @@ def designs(model, net, train) -> list[Design]:
     # the command's "centre": where the actuator holds (the median command of the training data)
     centre = {n: float(np.median(np.concatenate([e.inputs.U[:, model.input_names.index(n)] for e in train])))
               for n in cmds}
+
+    def sines(frac, f):
+        """Every input held at its mean, each command a sine of ``frac``·std around its centre."""
+        ins = held(cmds)
+        for n in cmds:
+            ins[n] = {"sine": {"amplitude": val(n, frac * st[n][1]) - val(n, 0.0), "frequency": f"{f} Hz",
+                               "offset": val(n, centre[n])}}
+        return ins
+
     out = []
     for frac in (0.1, 0.3):
         for f in (0.2, 1.0, 5.0):
-            ins = held(cmds)
-            for n in cmds:
-                ins[n] = {"sine": {"amplitude": val(n, frac * st[n][1]) - val(n, 0.0), "frequency": f"{f} Hz",
-                                   "offset": val(n, centre[n])}}
+            ins = sines(frac, f)
             out.append(Design(f"sine_{f:g}Hz_{int(100 * frac)}", f"command sine, {f:g} Hz, {frac:g}·std of the "
                               "recorded command around its median, other inputs held at their means", ins))
     ins = held(cmds)
@@ -132,10 +138,7 @@ def designs(model, net, train) -> list[Design]:
     # the recorded supply (a load the machine holds with a third of its supply stays held)
     supplies = sorted(supply_inputs(net) & set(model.input_names))
     for f in (1.0, 5.0) if supplies else ():
-        ins = held(cmds)
-        for n in cmds:
-            ins[n] = {"sine": {"amplitude": val(n, 0.1 * st[n][1]) - val(n, 0.0), "frequency": f"{f} Hz",
-                               "offset": val(n, centre[n])}}
+        ins = sines(0.1, f)
         for n in supplies:
             ins[n] = {"table": _levels([val(n, st[n][0] * k) for k in SUPPLY_LEVELS])}
         out.append(Design(f"sine_{f:g}Hz_supply_levels",

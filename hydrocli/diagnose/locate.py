@@ -30,6 +30,11 @@ AFTER_STOP_S = 0.3
 REVERSAL_GAP_S = 0.5     # direction reversal: opposite motions less than this apart
 
 
+POSITIONS = ("position", "angle")             # quantities that say where an actuator is …
+SPEEDS = ("velocity", "angular_velocity")      # … and how fast it moves (a cylinder's or a rotary drive's)
+ROTARY = ("angle", "angular_velocity")
+
+
 def quantity(unit: str) -> str:
     return {"Pa": "pressure", "m": "position", "m/s": "velocity", "N": "force", "rad": "angle",
             "rad/s": "angular_velocity", "m^3/s": "flow"}.get(unit.replace(" ", ""), "other")
@@ -44,9 +49,8 @@ def regimes(model: Model, exp, kinds: dict[str, str]) -> dict[str, np.ndarray]:
     t, n = exp.t_out, exp.t_out.size
     out: dict[str, np.ndarray] = {}
     # a rotary machine's angle and speed define its regimes as a cylinder's position and velocity do
-    vel = next((exp.measured[o] for o, k in kinds.items() if k in ("velocity", "angular_velocity")
-                and o in exp.measured), None)
-    pos = next((exp.measured[o] for o, k in kinds.items() if k in ("position", "angle") and o in exp.measured), None)
+    vel = next((exp.measured[o] for o, k in kinds.items() if k in SPEEDS and o in exp.measured), None)
+    pos = next((exp.measured[o] for o, k in kinds.items() if k in POSITIONS and o in exp.measured), None)
     if vel is None and pos is not None:
         vel = np.gradient(pos, t)
     if vel is not None:

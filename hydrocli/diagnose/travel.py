@@ -13,7 +13,7 @@ def output_ranges(model, exps) -> dict[str, tuple[float, float]]:
     """{position or angle output: (min, max) measured over ``exps``}."""
     out = {}
     for o, k in locate.output_quantities(model).items():
-        if k in ("position", "angle"):
+        if k in locate.POSITIONS:
             vals = np.concatenate([e.measured[o][residuals.used(e, o)] for e in exps if o in e.measured]
                                   or [np.zeros(1)])
             out[o] = (float(np.min(vals)), float(np.max(vals)))

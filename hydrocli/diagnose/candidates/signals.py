@@ -4,6 +4,7 @@ with wide bounds; position/velocity sensors with a first-order lag)."""
 from __future__ import annotations
 
 from .. import augment as A
+from ..locate import POSITIONS, ROTARY, SPEEDS
 from ..measurement import PRESSURE_TAU_BOUNDS, sensor_components
 from .base import Candidate, Context, Family, NewParam, Skipped
 
@@ -38,8 +39,6 @@ class InputDelayFamily(Family):
         return out or [Skipped("input_delay", "no machine input drives a component")]
 
 
-MOTION = ("position", "velocity", "angle", "angular_velocity")   # output quantities a motion sensor reads
-ROTARY = ("angle", "angular_velocity")
 SLOW_SENSOR_MAX = 1.0   # s: a pressure read through a gauge snubber or a long thin sensing line
                         # (a damping orifice is fitted to calm a gauge) lags by up to about a second
 
@@ -65,7 +64,7 @@ class SensorLagFamily(Family):
                 return net
             out.append(Candidate("sensor_lag", sensors[0], params, widen, "measurement",
                                  "pressure sensors slower than a typical transducer"))
-        motion = sorted({(n, q in ROTARY) for o, q in ctx.outputs.items() if q in MOTION
+        motion = sorted({(n, q in ROTARY) for o, q in ctx.outputs.items() if q in POSITIONS + SPEEDS
                          for n in _nodes_of(ctx, o)})
         for node, rotary in motion:
             sens = A.unique_name(ctx.net, f"{node}_sensor")
