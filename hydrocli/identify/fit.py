@@ -184,15 +184,22 @@ def _fit(model: Model, experiments: list[Experiment], free: list[str] | None = N
     interrupted, message = False, ""
     try:
         if method == "least-squares":
-            z_run, c_run = z0, cost0
-            for restart in range(1 + RESTARTS):
-                sol = optimize.least_squares(fun, z_run, jac=jac, bounds=(0.0, 1.0), method="trf", x_scale=1.0,
+            z_run, c_run, x_scale, runs = z0, cost0, 1.0, 1 + RESTARTS
+            for restart in range(2 + RESTARTS):
+                sol = optimize.least_squares(fun, z_run, jac=jac, bounds=(0.0, 1.0), method="trf", x_scale=x_scale,
                                              max_nfev=max_evals, xtol=1e-6, ftol=FTOL)
                 message = sol.message + (f" (after {restart} restart{'s' * (restart > 1)})" if restart else "")
+                if restart == 0 and sol.status == 3 and not tracker.best_cost < c_run:
+                    # a first step-size stop without a single accepted step: the trust region shrank on a
+                    # badly scaled Jacobian (a parameter at a bound beside one whose column is 10⁷×
+                    # larger) — run again with the variables scaled by the Jacobian's column norms
+                    x_scale, runs = "jac", runs + 1
+                    continue
                 # a step-size stop (xtol) right after progress is the trust region collapsing on a
                 # Jacobian that is only as accurate as the integration (forward sensitivities at a
                 # loose tolerance, stick-slip): restarted from the best point with a fresh radius
-                if sol.status != 3 or tracker.best_z is None or not tracker.best_cost < (1 - RESTART_GAIN) * c_run:
+                if (restart + 1 >= runs or sol.status != 3 or tracker.best_z is None
+                        or not tracker.best_cost < (1 - RESTART_GAIN) * c_run):
                     break
                 z_run, c_run = tracker.best_z.copy(), tracker.best_cost
         elif method == "nelder-mead":

@@ -45,3 +45,30 @@ def test_parallel_jacobian_gives_the_same_fit(eha):
     assert a.n_evals == b.n_evals
     assert np.allclose(a.estimates, b.estimates, rtol=1e-9)
     assert np.allclose(a.stderr, b.stderr, rtol=1e-6)
+
+
+def test_a_trust_region_stall_without_a_step_is_retried_with_jacobian_scaling(eha, monkeypatch):
+    """A least-squares run that stops on its step size (xtol) before accepting a single step
+    (seen on a base fit whose external-leak conductance starts at its bound 0 beside an
+    internal leak whose Jacobian column is 10⁷× larger: nothing moved) is run again with the
+    variables scaled by the Jacobian's column norms, and the fit then converges."""
+    from scipy import optimize
+    import hydrocli.identify.fit as F
+    real, scales = optimize.least_squares, []
+
+    def stalls_unscaled(fun, z0, **kw):
+        scales.append(kw["x_scale"])
+        if isinstance(kw["x_scale"], str):
+            return real(fun, z0, **kw)
+        fun(z0)
+        return optimize.OptimizeResult(x=z0, status=3, message="`xtol` termination condition is satisfied.")
+
+    monkeypatch.setattr(F.optimize, "least_squares", stalls_unscaled)
+    _, model = eha
+    exp = synthetic(model, model.p0, duration=1.5, seed=2)
+    start = model.p0.copy()
+    start[model.param_index("valve.Kv")] *= 1.2
+    res = F.fit(model, [exp], ["valve.Kv", "load.m"], p_start=start, max_evals=40)
+    assert scales[:2] == [1.0, "jac"]
+    assert res.cost < 0.05 * res.cost_initial
+    assert abs(res.estimates[0] / model.p0[model.param_index("valve.Kv")] - 1) < 0.01
