@@ -41,10 +41,19 @@ def _at_bound(v: float, bounds, log: bool | None) -> bool:
     return abs(v - lo) < 1e-3 * (hi - lo) or abs(hi - v) < 1e-3 * (hi - lo)
 
 
-def need(val0: float, noise: float, later: bool = False, first_gain: float | None = None) -> float:
+def need(val0: float, noise: float, later: bool = False, first_gain: float | None = None,
+         selected: bool = True) -> float:
     """The validation ESR gain (%) an effect must exceed, from the current model's summed
-    validation ESR ``val0`` and the noise floor: rule 2 above."""
-    out = max(noise, (MIN_REL_LATER if later else MIN_REL) * max(val0 - noise, 0.0))
+    validation ESR ``val0`` and the noise floor: rule 2 above.
+
+    ``selected=False``: the effect was not picked as the best of the catalogue's candidates
+    but declared by the machine file (a parameter it frees from "off", :mod:`.findings`).
+    The noise-floor part of the band is the look-elsewhere margin of a selection — the best
+    of twenty candidates absorbs some of any misfit — and a declared parameter has no such
+    bias: its estimate's standard error already says whether the training data resolve it, and
+    the held-out data only have to need it (``MIN_REL`` of the error above the noise)."""
+    share = (MIN_REL_LATER if later else MIN_REL) * max(val0 - noise, 0.0)
+    out = max(noise, share) if selected else share
     if later and first_gain is not None and first_gain > 0:
         # a further effect must matter next to the first one, not mop up its form mismatch
         out = max(out, MIN_REL_FIRST * first_gain)

@@ -295,7 +295,7 @@ def _base_fit_findings(su: Setup, base: Stage, judged: list[dict]) -> list[dict]
             p_off[su.model.param_index(n)] = offs[n].ref
         Y = residuals.simulate_outputs(su.model, su.validate, p_off)
         off_total = residuals.total(residuals.esr_table(su.model, su.validate, Y, su.outputs))
-        return off_total - val, accept.need(off_total, su.noise_total)
+        return off_total - val, accept.need(off_total, su.noise_total, selected=False)
     return findings.base_fit_findings(judged, offs, gain_of)
 
 

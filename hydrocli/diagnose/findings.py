@@ -7,7 +7,8 @@
   candidate that would set that parameter free gives its "off" value ``ref`` and plausibility
   range) and the acceptance rule's standards: |θ̂ − ref| inside the plausible range,
   > ``Z_MIN`` inflated standard errors from ref, and switching it back off worsens the
-  validation ESR by more than the noise band (:func:`accept.need`).
+  validation ESR by more than a share of the error above the noise (:func:`accept.need` with
+  ``selected=False``: a declared parameter carries no look-elsewhere margin).
 * **Unexplained mismatch**. Nothing passes, yet some output's validation ESR stays above its
   noise floor by more than ``MISMATCH_ESR`` and by more than the floor itself: the model is
   missing something the catalogue cannot express. Said so, with where it lies (outputs,

@@ -115,6 +115,20 @@ def test_base_fit_finding_needs_plausible_determined_and_needed():
     assert findings.base_fit_findings([_row("cyl.c_el", 2.9e-12, 1e-12, 1e-13)], offs, big) == []  # not from "off"
 
 
+def test_a_declared_parameter_needs_no_look_elsewhere_margin():
+    """A candidate picked as the best of the catalogue must gain more than the noise floor on
+    held-out data; a parameter the file itself frees from "off" was not picked, so it must only
+    account for MIN_REL of the error above the floor (an external leak the base fit resolved
+    at 200 σ, worth 0.5 % held-out ESR beside a 0.64 % floor, was answered a bare `none`)."""
+    from hydrocli.diagnose import accept
+    val_off, floor = 1.7, 0.64
+    assert accept.need(val_off, floor) == pytest.approx(floor)
+    declared = accept.need(val_off, floor, selected=False)
+    assert declared == pytest.approx(accept.MIN_REL * (val_off - floor))
+    assert declared < 0.5 < accept.need(val_off, floor)
+    assert accept.need(0.5, floor, selected=False) == 0.0    # nothing above the floor: any real gain
+
+
 def test_unexplained_mismatch_when_error_stays_above_noise():
     loc = {"regimes": [{"regime": "direction reversal", "concentration": 2.0}], "windows": [{"t0": 1, "t1": 2}]}
     assert findings.unexplained({"P1": 0.3, "v": 0.1}, {"P1": 0.15, "v": 0.05}, loc) is None
