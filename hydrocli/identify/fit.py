@@ -184,7 +184,7 @@ def _fit(model: Model, experiments: list[Experiment], free: list[str] | None = N
     interrupted, message = False, ""
     try:
         if method == "least-squares":
-            z_run, c_run, x_scale, runs = z0, cost0, 1.0, 1 + RESTARTS
+            z_run, c_run, x_scale = z0, cost0, 1.0
             for restart in range(2 + RESTARTS):
                 sol = optimize.least_squares(fun, z_run, jac=jac, bounds=(0.0, 1.0), method="trf", x_scale=x_scale,
                                              max_nfev=max_evals, xtol=1e-6, ftol=FTOL)
@@ -193,12 +193,13 @@ def _fit(model: Model, experiments: list[Experiment], free: list[str] | None = N
                     # a first step-size stop without a single accepted step: the trust region shrank on a
                     # badly scaled Jacobian (a parameter at a bound beside one whose column is 10⁷×
                     # larger) — run again with the variables scaled by the Jacobian's column norms
-                    x_scale, runs = "jac", runs + 1
+                    x_scale = "jac"
                     continue
                 # a step-size stop (xtol) right after progress is the trust region collapsing on a
                 # Jacobian that is only as accurate as the integration (forward sensitivities at a
-                # loose tolerance, stick-slip): restarted from the best point with a fresh radius
-                if (restart + 1 >= runs or sol.status != 3 or tracker.best_z is None
+                # loose tolerance, stick-slip): restarted from the best point with a fresh radius, at
+                # most RESTARTS times (the rescaled run above is not one of them)
+                if (restart >= RESTARTS + (x_scale == "jac") or sol.status != 3 or tracker.best_z is None
                         or not tracker.best_cost < (1 - RESTART_GAIN) * c_run):
                     break
                 z_run, c_run = tracker.best_z.copy(), tracker.best_cost
