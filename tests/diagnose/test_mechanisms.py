@@ -532,3 +532,64 @@ def test_a_rotary_drive_offers_a_lag_of_its_angle_and_speed_sensor():
     assert net2.components[sens].type == "rotary_motion_sensor"
     assert net2.outputs["w"].expr == f"{sens}.w" and net2.outputs["theta"].expr == f"{sens}.theta"
     assert net2.outputs["P1"].expr == net.outputs["P1"].expr
+
+
+VANE_ON_MOUNT = """
+name: vane_on_mount
+fluid: {beta: "1.5 GPa", p_tank: "1 bar"}
+inputs: {u: {unit: "1"}}
+components:
+  supply: {type: pressure_source, ports: {P: sup}, p: "100 bar"}
+  tank: {type: tank, ports: {T: ret}}
+  valve: {type: valve_4_3, ports: {P: sup, T: ret, A: c1, B: c2, cmd: u}, Kv: 2.0e-8}
+  vane: {type: vane_actuator, ports: {A: c1, B: c2, shaft: arm, body: ground}, D_v: 5.0e-6, V_1: 2.0e-5, V_2: 2.0e-5, R_v: 0.0}
+  arm_inertia: {type: inertia, ports: {r: arm}, J: 0.05}
+outputs: {p1: c1.p, p2: c2.p, angle: arm.theta}
+initial: {c1.p: "50 bar", c2.p: "50 bar"}
+"""
+
+
+def _mode_frequencies(model, pressures: float) -> list[float]:
+    """Oscillation frequencies (Hz) of the model linearised at rest, chambers at ``pressures``
+    (central differences of the generated right-hand side)."""
+    f = model.numpy_evaluate()
+    p = np.array([q.value for q in model.params])
+    x0 = np.zeros(len(model.state_names))
+    for s in ("c1.p", "c2.p"):
+        x0[model.state_index(s)] = pressures
+
+    def rhs(x):
+        dx, *_ = f(0.0, list(x[:, None]), p, [np.zeros(1)])
+        return np.array([np.asarray(d, float).ravel()[0] for d in dx])
+    jac = np.zeros((x0.size, x0.size))
+    for j in range(x0.size):
+        h = 1e-6 * max(abs(x0[j]), 1.0)
+        e = np.zeros(x0.size)
+        e[j] = h
+        jac[:, j] = (rhs(x0 + e) - rhs(x0 - e)) / (2 * h)
+    w = np.abs(np.linalg.eigvals(jac).imag) / (2 * np.pi)
+    return sorted({round(float(v), 3) for v in w if v > 1.0})
+
+
+def test_a_mount_candidate_identifies_what_moves_on_it(tmp_path):
+    """The mount candidate identifies the mass or inertia on the mount and its damping with
+    the stiffness (a housing a quarter of the load rings at three times the frequency of a
+    frame fixed at twice it). Reference: the two-degree-of-freedom closed form — the arm J on
+    the oil spring k_h = D²·β·(1/V_1 + 1/V_2) (valve closed) against the frame J_f on its mount
+    k: ω⁴·J·J_f − ω²·(J·(k_h + k) + J_f·k_h) + k_h·k = 0."""
+    from hydrocli.diagnose import augment as A
+    net = load_netlist_text(VANE_ON_MOUNT, str(tmp_path / "vane.yaml"))
+    ctx = Context(net, set(), {"arm.theta": (-0.5, 0.5)}, {"p1": "pressure", "angle": "angle"}, {"u": 0.0})
+    mount = next(c for c in catalogue(ctx)[0] if c.effect == "structural_flexibility")
+    k_name, j_name, c_name = (p.name for p in mount.params)
+    assert [p.primary for p in mount.params] == [True, False, False]
+    frame = mount.params[1]
+    assert frame.bounds[0] <= 0.02 * 0.05 and frame.bounds[1] >= 2 * 0.05     # a light housing … a heavy frame
+    assert set(p.name for p in mount.params) <= set(build_model(mount.build(net)).free_params)
+    J, D, beta, V, k = 0.05, 5.0e-6, 1.5e9, 2.0e-5, 2000.0
+    k_h = D ** 2 * beta * 2 / V
+    for J_f in (0.004, 0.2):
+        model = build_model(A.set_values(mount.build(net), {k_name: k, j_name: J_f, c_name: 1e-3}))
+        a, b, c = J * J_f, -(J * (k_h + k) + J_f * k_h), k_h * k
+        expected = sorted(np.sqrt((-b + s * np.sqrt(b * b - 4 * a * c)) / (2 * a)) / (2 * np.pi) for s in (-1, 1))
+        assert _mode_frequencies(model, 5e6) == pytest.approx(expected, rel=0.005)
