@@ -15,7 +15,8 @@ role               slots
 =================  ==========================================================================
 actuator           ports chamber_a, chamber_b, motion, reference; params size (area or
                    displacement: force or torque per Pa), displacements (every area or
-                   displacement, within manufacturing tolerance), bulk_modulus (of the oil in
+                   displacement, within manufacturing tolerance), dead_volumes (each chamber's
+                   volume at the reference position: dead volume and lines), bulk_modulus (of the oil in
                    the chambers), internal_leakage / external_leakage
                    (laminar conductances, 0 = none), air (free-air fraction), stop_min,
                    stop_max, stop_stiffness, stop_damping

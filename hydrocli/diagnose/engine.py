@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..components import roles as R
 from ..errors import DataError, Problem
 from ..experiments.experiment import Experiment
 from ..experiments.experiment_file import load_all
@@ -284,19 +285,23 @@ def _restrained(su: Setup, base: Stage, lim: dict, st: Settings, progress) -> St
 
 
 def _base_fit_findings(su: Setup, base: Stage, judged: list[dict]) -> list[dict]:
-    """Effects whose parameter the file already has free from "off" and the fit moved."""
-    cands, _ = catalogue(replace(_context(su, base), net=su.net, free=set()))
+    """Effects whose parameter the file already has free from "off" and the fit moved, and
+    entrained air the fit put into the chambers' volumes (:mod:`.findings`)."""
+    ctx = replace(_context(su, base), net=su.net, free=set())
+    cands, _ = catalogue(ctx)
     offs = findings.off_values(cands)
     val = residuals.total(base.esr_validation)
 
-    def gain_of(names):
+    def gain_at(values: dict[str, float]):
         p_off = base.p.copy()
-        for n in names:
-            p_off[su.model.param_index(n)] = offs[n].ref
+        for n, v in values.items():
+            p_off[su.model.param_index(n)] = v
         Y = residuals.simulate_outputs(su.model, su.validate, p_off)
         off_total = residuals.total(residuals.esr_table(su.model, su.validate, Y, su.outputs))
         return off_total - val, accept.need(off_total, su.noise_total, selected=False)
-    return findings.base_fit_findings(judged, offs, gain_of)
+    chambers = [findings.Chambers(a.name, tuple(a.params("dead_volumes"))) for a in ctx.parts(R.ACTUATOR)]
+    return (findings.base_fit_findings(judged, offs, lambda names: gain_at({n: offs[n].ref for n in names}))
+            + findings.fluid_compliance_excess(judged, chambers, gain_at))
 
 
 # -- step 3 -------------------------------------------------------------------------------

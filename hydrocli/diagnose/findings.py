@@ -9,6 +9,9 @@
   > ``Z_MIN`` inflated standard errors from ref, and switching it back off worsens the
   validation ESR by more than a share of the error above the noise (:func:`accept.need` with
   ``selected=False``: a declared parameter carries no look-elsewhere margin).
+* **Fluid compliance in excess** (:func:`fluid_compliance_excess`): the base fit needs every
+  chamber's volume ×1.5 or more of the drawing's, well determined — entrained air (or a hose
+  volume the file lacks), ``source: base_fit``.
 * **Unexplained mismatch**. Nothing passes, yet some output's validation ESR stays above its
   noise floor by more than ``MISMATCH_ESR`` and by more than the floor itself: the model is
   missing something the catalogue cannot express. Said so, with where it lies (outputs,
@@ -27,6 +30,7 @@ import numpy as np
 Z_MIN = 3.0          # a finding must sit this many (inflated) standard errors from "off"
 MISMATCH_ESR = 1.0   # % validation ESR above the noise floor that the benchmark calls detectable
 BEYOND = 0.05        # held-out positions further than this share of the training span outside it
+EXCESS = 1.5         # × the file's chamber volume in every chamber: more than a drawing's tolerance
 
 
 @dataclass(frozen=True)
@@ -78,6 +82,50 @@ def base_fit_findings(judged: list[dict], offs: dict[str, OffValue], gain_of) ->
                       "description": f"the base fit moved {', '.join(j['name'] for j, _ in moved)} off its "
                                      f"'no effect' value to a well-determined one the held-out data need"})
     return found
+
+
+@dataclass(frozen=True)
+class Chambers:
+    """An actuator's chamber volumes at the reference position (role slot ``dead_volumes``)."""
+    component: str
+    volumes: tuple[str, ...]
+
+
+def fluid_compliance_excess(judged: list[dict], actuators: list[Chambers], gain_of) -> list[dict]:
+    """Entrained air found by the base fit through the chambers' volumes. A vane's or a
+    cylinder's volume at the reference position is a drawing dimension (chamber, ports,
+    fittings). When the base fit needs ``EXCESS`` × or more of it in EVERY chamber, well
+    determined (> ``Z_MIN`` standard errors from the file's value), the chambers hold a
+    compliance the oil in the drawn volumes cannot: a compliance in each chamber that does not
+    scale with the stroke — free air in the oil (or hose volume the file leaves out, named as
+    the alternative). A compliant mount or rod–load link cannot stand in for it: a spring in
+    series with the motion adds compliance only BETWEEN the chambers (their pressure
+    difference drives it), not to both. ``gain_of({name: value}) -> (gain %, need %)``: the
+    validation ESR lost when the volumes go back to the file's values, and the band it must
+    beat (``accept.need``, ``selected=False``)."""
+    rows = {j["name"]: j for j in judged}
+    found = []
+    for act in actuators:
+        js = [rows.get(n) for n in act.volumes]
+        if len(js) < 2 or any(j is None or not _grown(j) for j in js):
+            continue
+        gain, need = gain_of({j["name"]: j["initial"] for j in js})
+        if not gain > need:
+            continue
+        ratios = ", ".join(f"{j['name']} ×{j['value'] / j['initial']:.2g}" for j in js)
+        found.append({"effect": "entrained_air", "component": act.component, "source": "base_fit",
+                      "parameters": [{"name": j["name"], "value": j["value"], "stderr": j["stderr"],
+                                      "file_value": j["initial"]} for j in js],
+                      "validation_gain": gain, "noise_band": need, "alternatives": ["line_dynamics"],
+                      "description": f"the base fit needs more fluid compliance in every chamber of "
+                                     f"'{act.component}' than oil in the drawn volumes has ({ratios}): free "
+                                     f"air in the oil, or hose volume the file leaves out"})
+    return found
+
+
+def _grown(j: dict) -> bool:
+    v, v0, se = j["value"], j["initial"], j["stderr"]
+    return v0 > 0 and v >= EXCESS * v0 and np.isfinite(se) and v - v0 > Z_MIN * se
 
 
 def _determined(j: dict, off: OffValue) -> bool:

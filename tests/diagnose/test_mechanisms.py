@@ -593,3 +593,36 @@ def test_a_mount_candidate_identifies_what_moves_on_it(tmp_path):
         a, b, c = J * J_f, -(J * (k_h + k) + J_f * k_h), k_h * k
         expected = sorted(np.sqrt((-b + s * np.sqrt(b * b - 4 * a * c)) / (2 * a)) / (2 * np.pi) for s in (-1, 1))
         assert _mode_frequencies(model, 5e6) == pytest.approx(expected, rel=0.005)
+
+
+def test_more_fluid_compliance_than_the_drawn_chambers_hold_is_entrained_air():
+    """A base fit that needs ×1.5 or more of the drawn volume in EVERY chamber, well determined
+    and needed on held-out data, found a compliance in each chamber (air or a hose volume);
+    one chamber grown (a spring between the chambers can do that), a poorly determined
+    volume, or a gain inside the noise band is not a finding."""
+    from hydrocli.diagnose.findings import Chambers, fluid_compliance_excess
+    vane = Chambers("vane", ("vane.V_1", "vane.V_2"))
+
+    def rows(r1, r2, se=1e-6):
+        return [{"name": "vane.V_1", "value": 6e-5 * r1, "initial": 6e-5, "stderr": se},
+                {"name": "vane.V_2", "value": 6e-5 * r2, "initial": 6e-5, "stderr": se},
+                {"name": "vane.beta", "value": 1.8e9, "initial": 1.5e9, "stderr": 1e7}]
+    asked = []
+
+    def gain(values):
+        asked.append(values)
+        return 3.0, 0.5
+    found = fluid_compliance_excess(rows(2.1, 2.6), [vane], gain)
+    assert [f["effect"] for f in found] == ["entrained_air"] and found[0]["source"] == "base_fit"
+    assert found[0]["alternatives"] == ["line_dynamics"]
+    assert asked == [{"vane.V_1": 6e-5, "vane.V_2": 6e-5}]          # judged with the drawn volumes back
+    assert fluid_compliance_excess(rows(2.1, 1.2), [vane], gain) == []
+    assert fluid_compliance_excess(rows(2.1, 2.6, se=5e-5), [vane], gain) == []
+    assert fluid_compliance_excess(rows(2.1, 2.6), [vane], lambda v: (0.4, 0.5)) == []
+    assert fluid_compliance_excess(rows(0.4, 0.4), [vane], gain) == []
+
+
+def test_every_actuator_names_its_chamber_volumes():
+    for t in ("cylinder", "cylinder_double_rod", "vane_actuator", "hydraulic_motor"):
+        role = registry.get(t).role(R.ACTUATOR)
+        assert len(role.params_of("dead_volumes")) == 2, t

@@ -19,7 +19,7 @@ class HydraulicMotor(Component):
     separate ``gearbox`` component."""
 
     type = "hydraulic_motor"
-    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_m", displacements=("D_m",), bulk_modulus="beta"),)
+    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_m", displacements=("D_m",), dead_volumes=("V_A", "V_B"), bulk_modulus="beta"),)
     family = "hydraulic"
     description = "Fixed-displacement hydraulic motor with internal and external leakage"
     source = "seed 002 Fig. 3, eqs. 5, 8, 9"
@@ -72,7 +72,7 @@ class VaneActuator(Component):
     [θ_min, θ_max] (the cylinder's ``end_stop_force`` in rotary units), off while k_stop = 0."""
 
     type = "vane_actuator"
-    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_v", displacements=("D_v",), bulk_modulus="beta", internal_leakage="R_v", air="air", air_exponent="air_n", air_dissolve="p_dissolve", stop_min="theta_min", stop_max="theta_max", stop_stiffness="k_stop", stop_damping="c_stop"),)
+    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_v", displacements=("D_v",), dead_volumes=("V_1", "V_2"), bulk_modulus="beta", internal_leakage="R_v", air="air", air_exponent="air_n", air_dissolve="p_dissolve", stop_min="theta_min", stop_max="theta_max", stop_stiffness="k_stop", stop_damping="c_stop"),)
     family = "hydraulic"
     description = "Rotary vane actuator with cross-port leakage and chamber compressibility"
     source = "seed 001 eqs. 9–10, 12–13, 20"
