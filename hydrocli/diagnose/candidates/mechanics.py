@@ -19,6 +19,7 @@ from .. import augment as A
 from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 G = 9.81
+PROBE_HZ = 25.0   # Hz: the mode a compliance candidate's screening probe puts its mass in
 
 
 class MechanicsFamily(Family):
@@ -57,7 +58,7 @@ class MechanicsFamily(Family):
         # a stiff link would overdamp a soft one and hide it. Probes where a link is visible
         # (a mode at some 10–30 Hz for the identified mass or inertia). Bounds scale with the
         # load (k/m from (0.5 Hz)² to (5 kHz)²), equal to the fixed ones for a 100 kg load.
-        k_probe = (2 * 3.14159 * 25.0) ** 2 * 0.3 * m
+        k_probe = _probe_stiffness(0.3 * m)
         c0 = 0.2 * (1e7 * 0.1 * m) ** 0.5
         s = m / 100.0
         params = [NewParam(f"{spring}.{srole.param('stiffness')}", 1e9 * s, (1e5 * s, 1e10 * s), (1e5 * s, 5e8 * s),
@@ -129,7 +130,7 @@ class MechanicsFamily(Family):
         # 0.8 kg·m² arm: not shortlisted, a rod–load link named). Probes a frame mode at
         # 25 Hz (as the rod–load link); the damper starts at 10 % of critical there
         m_f = 0.3 * m
-        k_probe = (2 * 3.14159 * 25.0) ** 2 * m_f
+        k_probe = _probe_stiffness(m_f)
         c0 = 0.2 * (k_probe * m_f) ** 0.5
         params = [NewParam(f"{sp}.{srole.param('stiffness')}", 1e9 * s, (1e5 * s, 1e10 * s), (1e5 * s, 5e8 * s),
                            k_probe, True),
@@ -162,6 +163,12 @@ class MechanicsFamily(Family):
         return Candidate("structural_flexibility", act.name, params,
                          build, "force", f"compliant mounting of the body of '{act.name}' (motion measured by "
                                          "the actuator's own transducer, relative to the body)")
+
+
+def _probe_stiffness(mass: float) -> float:
+    """The stiffness that puts ``mass`` (or an inertia) in a mode at ``PROBE_HZ``, where a link
+    or a mount is visible: k = (2π·f)²·m."""
+    return (2 * 3.14159 * PROBE_HZ) ** 2 * mass
 
 
 def _inertia(ctx: Context, load: Part) -> float:
