@@ -23,6 +23,14 @@ Stribeck velocity widened to its limit imitates a Coulomb force; a valve gain at
 leak). It is restrained to within ×3 of the file's value (inside the file's bounds) — the
 tolerance ``baseline.judge`` already accepts as "not far" — and, as for the bulk modulus,
 every candidate tested from there must beat the free base.
+
+The pressure transducers' lags (:mod:`.measurement`, nuisance parameters) likewise: a fit that
+needs a lag beyond ``SLOW_TRANSDUCER`` (twice a transducer's usual millisecond) asks for a lag
+between the valve and the reading that the machine file lacks. It may be in the reading (a
+slow sensor: ``sensor_lag``) or in the hydraulics — a hose between valve and chamber, air,
+a delayed command — and then the MOTION lags too, which a transducer cannot do. From a base
+whose transducers are restrained to a typical one's (≤ ``PRESSURE_TAU_TYPICAL``), every
+candidate, the widened sensor included, competes on equal terms and must beat the free base.
 """
 from __future__ import annotations
 
@@ -31,21 +39,29 @@ from .baseline import MAX_FAR
 from ..netlist.model import Netlist
 from . import augment
 from .candidates import Context
+from .measurement import PRESSURE_TAU_START, PRESSURE_TAU_TYPICAL, sensor_components
 
 OIL_MIN = 1.0e9   # Pa: the softest effective bulk modulus of oil in a rigid chamber
+SLOW_TRANSDUCER = 2.0 * PRESSURE_TAU_START   # s: a transducer lag the fit should not need
 
 
 def limits(ctx: Context, estimates: dict[str, float], bounds: dict[str, tuple[float, float]],
            initial: dict[str, float] | None = None, at_bound: set[str] | None = None) \
         -> dict[str, tuple[float, float]]:
     """name → restrained bounds: free actuator bulk moduli the base fit left below
-    :data:`OIL_MIN` (``OIL_MIN``, the file's upper bound), and parameters ``at_bound`` that moved
-    more than ×``MAX_FAR`` from their ``initial`` (file) value (within ×``MAX_FAR`` of it)."""
+    :data:`OIL_MIN` (``OIL_MIN``, the file's upper bound), pressure-transducer lags beyond
+    :data:`SLOW_TRANSDUCER` (all of them, to a typical transducer's), and parameters
+    ``at_bound`` that moved more than ×``MAX_FAR`` from their ``initial`` (file) value (within
+    ×``MAX_FAR`` of it)."""
     out = {}
     for act in ctx.parts(R.ACTUATOR):
         name = act.param("bulk_modulus")
         if name in estimates and estimates[name] < OIL_MIN and name in bounds:
             out[name] = (OIL_MIN, max(bounds[name][1], 1.5 * OIL_MIN))
+    lags = [f"{s}.tau" for s in sensor_components(ctx.net) if f"{s}.tau" in bounds and f"{s}.tau" in estimates]
+    if any(estimates[n] > SLOW_TRANSDUCER for n in lags):
+        for n in lags:
+            out[n] = (bounds[n][0], min(bounds[n][1], PRESSURE_TAU_TYPICAL))
     for name in sorted((at_bound or set()) - set(out)):
         v, v0 = estimates.get(name, 0.0), (initial or {}).get(name, 0.0)
         if name in bounds and v > 0 and v0 > 0 and max(v / v0, v0 / v) > MAX_FAR:

@@ -36,18 +36,25 @@ def screen_one(job: dict) -> dict:
         r0 = obj.residuals(p)
         # the signature: secants of the parameters that have one (a shape companion probed at its
         # start value only shapes the effect once the amount is there)
+        # taken with the companions at their start and at each of their typical shapes
         probed = [prm for prm in job["params"] if prm.probe != prm.start]
         idx = [model.param_index(prm.name) for prm in probed]
-        res = None
-        for probe in _probes(probed):
-            steps = [probe[prm.name] - prm.start for prm in probed]
-            S = residuals.sensitivities(obj, p, idx, steps, r0)
-            trial = stats.screen(job["r"], S, job["B"], job["n_eff"])
-            if res is None or trial["dr2"] > res["dr2"]:
-                res = trial
+        res, best_shape = None, {}
+        for shape in _shapes(job["params"]):
+            q = p.copy()
+            for n, v in shape.items():
+                q[model.param_index(n)] = v
+            rq = obj.residuals(q) if shape else r0
+            for probe in _probes(probed):
+                steps = [probe[prm.name] - prm.start for prm in probed]
+                S = residuals.sensitivities(obj, q, idx, steps, rq)
+                trial = stats.screen(job["r"], S, job["B"], job["n_eff"])
+                if res is None or trial["dr2"] > res["dr2"]:
+                    res, best_shape = trial, shape
         step = {prm.name: prm.start - c for prm, c in zip(probed, res["coef"])}   # Gauss–Newton step: r ≈ S·coef
         starts = [{prm.name: prm.start for prm in job["params"]}, {prm.name: prm.probe for prm in job["params"]},
-                  {prm.name: float(np.clip(step.get(prm.name, prm.start), *_inner(prm.bounds))) for prm in job["params"]}]
+                  {prm.name: float(np.clip(step.get(prm.name, best_shape.get(prm.name, prm.start)), *_inner(prm.bounds)))
+                   for prm in job["params"]}]
         starts += _log_grid(job["params"]) + _one_end_probes(job["params"])
         return {"key": job["key"], "dr2": res["dr2"], "t": res["t"].tolist(), "p_value": res["p"], "error": None,
                 "starts": starts}
@@ -77,6 +84,14 @@ def _probes(probed) -> list[dict]:
     return out
 
 
+def _shapes(params) -> list[dict]:
+    """The companions as started ({}), then at each of their typical shapes (the k-th shape of
+    every companion that declares some, together)."""
+    shaped = [p for p in params if p.shapes]
+    return [{}] + [{p.name: p.shapes[k] for p in shaped if k < len(p.shapes)}
+                   for k in range(max((len(p.shapes) for p in shaped), default=0))]
+
+
 def _log_grid(params, n: int = 4) -> list[dict]:
     """Extra starts across the PLAUSIBLE range of the primary parameters whose "no effect"
     value is 0 (geometric points, jointly; companions at their start). A stiffness,
@@ -87,6 +102,7 @@ def _log_grid(params, n: int = 4) -> list[dict]:
     grid = [p for p in params if p.primary and p.ref == 0 and not p.scale and p.plausible[0] > 0]
     if not grid:
         return []
+    shapes = _shapes(params)
     out = []
     for f in np.linspace(0, 1, n + 2)[1:-1]:
         d = {p.name: p.start for p in params}
@@ -94,7 +110,7 @@ def _log_grid(params, n: int = 4) -> list[dict]:
             lo, hi = np.log(p.plausible[0]), np.log(p.plausible[1])
             inner = (p.bounds[0] * 1.05, p.bounds[1] / 1.05) if p.log and p.bounds[0] > 0 else _inner(p.bounds)
             d[p.name] = float(np.clip(np.exp(lo + f * (hi - lo)), *inner))
-        out.append(d)
+        out.extend({**d, **shape} for shape in shapes)
     return out
 
 

@@ -30,3 +30,15 @@ def test_edge_gain_valve_is_registered_with_four_gains():
     comp = registry.get("valve_4_3_edges")
     names = {p.name for p in comp.parameters}
     assert {"g_PA", "g_BT", "g_PB", "g_AT", "Kv", "Kv_neg_ratio", "overlap_PA"} <= names
+
+
+def test_companion_shapes_cross_the_grid_of_amounts():
+    """Each amount of the grid is tried with the companion at its start and at each of its
+    typical shapes (the k-th shape of every companion together)."""
+    l = NewParam("l", 0.05, (0.01, 20.0), (0.2, 20.0), 2.0, True)
+    d = NewParam("d", 0.01, (0.004, 0.032), (0.004, 0.032), 0.01, True, primary=False, shapes=(0.006, 0.019))
+    grid = _log_grid([l, d])
+    assert len(grid) == 4 * 3
+    assert {s["d"] for s in grid} == {0.01, 0.006, 0.019}
+    assert len({s["l"] for s in grid}) == 4 and all(0.2 < s["l"] < 20.0 for s in grid)
+    assert len(_log_grid([l])) == 4

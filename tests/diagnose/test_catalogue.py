@@ -1,6 +1,7 @@
 """Every applicable candidate of the EHA test bench yields a machine that builds and
 simulates, with its new parameters free; skipped effects carry a reason; every effect of
 the vocabulary is covered by some family."""
+import math
 from pathlib import Path
 
 import numpy as np
@@ -72,16 +73,44 @@ def test_supply_drop_is_sized_from_the_valve_and_starts_at_the_supply_pressure(e
 
 def test_line_candidate_is_a_hose_whose_volume_grows_with_its_length(eha):
     """The line candidate inserts a π-lumped hose per work port: length primary (inertance,
-    loss and volume together), its effective bulk modulus (oil and wall) a companion; its
-    capacitance is the hose's own A·l/β, not a fixed extra volume."""
+    loss and volume together), its effective bulk modulus (oil and wall) and its bore
+    companions; its capacitance is the hose's own A·l/β, not a fixed extra volume."""
     net, ctx = eha
     cands, _ = catalogue(ctx)
     line = next(c for c in cands if c.effect == "line_dynamics")
-    assert [p.primary for p in line.params] == [True, False, True, False]
-    assert [p.name.rsplit(".", 1)[1] for p in line.params] == ["l", "beta", "l", "beta"]
+    assert [p.primary for p in line.params] == [True, False, False] * 2
+    assert [p.name.rsplit(".", 1)[1] for p in line.params] == ["l", "beta", "d"] * 2
     aug = line.build(net)
     hoses = {n: d for n, d in aug.components.items() if d.type == "hose"}
     assert len(hoses) == 2 and not any(d.type == "volume" and n.startswith("valve_port") for n, d in aug.components.items())
     model = build_model(aug)
     for name in hoses:
-        assert f"{name}.l" in model.free_params and f"{name}.beta" in model.free_params
+        assert {f"{name}.l", f"{name}.beta", f"{name}.d"} <= set(model.free_params)
+
+
+def test_line_candidate_starts_reach_thin_long_and_wide_short_hoses(eha):
+    """A hose is three numbers — inertance I = ρl/A, capacitance C = A·l/β and laminar loss
+    128μl/(πd⁴) — and one bore cannot give a thin long hose's I/C ratio (ρ/A²) at any length.
+    The fit's starts must come within ×2 of both I and C of a 6 mm × 10 m hose (the family's
+    EHA and vane hoses) and of a 14 mm × 3 m one (its lift's); with the bore fixed at 10 mm
+    no start does for the thin hose (its I/C is 7.7× a 10 mm hose's)."""
+    from hydrocli.diagnose.workers import _log_grid
+    net, ctx = eha
+    cands, _ = catalogue(ctx)
+    line = next(c for c in cands if c.effect == "line_dynamics")
+    rho, beta = 870.0, 1.6e9
+    names = [p.name for p in line.params]
+    l_name, d_name = names[0], names[2]
+
+    def IC(l, d):
+        a = math.pi * d * d / 4
+        return rho * l / a, a * l / beta
+
+    def reached(starts, l, d):
+        I, C = IC(l, d)
+        return any(max(abs(math.log(IC(s[l_name], s[d_name])[0] / I)), abs(math.log(IC(s[l_name], s[d_name])[1] / C)))
+                   < math.log(2.0) for s in starts)
+    starts = _log_grid(line.params)
+    assert reached(starts, 10.0, 0.006) and reached(starts, 3.0, 0.014)
+    fixed_bore = [{**s, d_name: 0.01} for s in starts]
+    assert not reached(fixed_bore, 10.0, 0.006)

@@ -311,6 +311,22 @@ def test_primaries_are_judged_given_the_companions_that_shape_the_effect():
     assert conditional_stderr(["air", "n"], se[:2], None, {"n"}) == {"air": 0.4, "n": 3.0}   # no correlation: marginal
 
 
+def test_a_transducer_lag_beyond_a_transducers_restrains_every_pressure_sensor():
+    """A pressure-sensor lag the base fit pushes beyond twice a transducer's millisecond
+    stands for a lag the file lacks (a hose, or a slow sensor): every sensor is restrained to
+    a typical transducer's; lags a transducer has are left alone."""
+    from hydrocli.diagnose import restrain
+    from hydrocli.diagnose.measurement import PRESSURE_TAU_BOUNDS, PRESSURE_TAU_TYPICAL
+    net, sensors = with_pressure_sensors(load_netlist(ROOT / "machines" / "eha_testbench.yaml"))
+    ctx = Context(net, set(), {}, {}, {})
+    taus = sorted(f"{s}.tau" for s in sensors)
+    assert len(taus) == 2
+    bounds = {n: PRESSURE_TAU_BOUNDS for n in taus}
+    assert restrain.limits(ctx, {taus[0]: 1.2e-3, taus[1]: 1.9e-3}, bounds) == {}
+    lim = restrain.limits(ctx, {taus[0]: 3.0e-3, taus[1]: 0.8e-3}, bounds)
+    assert lim == {n: (PRESSURE_TAU_BOUNDS[0], PRESSURE_TAU_TYPICAL) for n in taus}
+
+
 def test_actuator_bulk_modulus_below_oil_is_restrained_and_hoses_are_not(tmp_path):
     """The chambers' bulk modulus is found by role and restrained to oil's range only where
     the base fit left it below; a hose volume's low effective modulus is left alone."""

@@ -51,6 +51,10 @@ class NewParam:
     seen: tuple[float, float] = ()         # a stop's: the positions recorded (min, max). A stop fitted
                                            # beyond them is pressed by nothing in training: the fit
                                            # withdraws it to its outer bound (workers.withdraw_idle_stops)
+    shapes: tuple[float, ...] = ()         # a companion's other typical values: the fit's grid of starts
+                                           # (workers._log_grid) is crossed with them (the k-th value of
+                                           # every companion together), so an amount is tried with each
+                                           # shape (a hose's length with each common bore)
 
 
 @dataclass

@@ -9,6 +9,12 @@ from .. import augment as A
 from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 
+BORE = 0.01              # m: a hose's bore to start from (3/8 in)
+BORES = (0.004, 0.032)   # m: 5/32 in … 1 1/4 in, SAE 100R hoses of mobile and industrial machines
+SHAPES = (0.006, 0.019)  # m: a thin (1/4 in) and a wide (3/4 in) hose: the length grid is tried with each,
+                         # since at one length a bore sets volume, inertance and loss in opposite ways
+
+
 class CircuitFamily(Family):
     effects = ("line_dynamics", "supply_pressure_drop")
     compliances = frozenset({"line_dynamics"})
@@ -40,6 +46,7 @@ class CircuitFamily(Family):
             # a companion, since hoses of one bore differ in wall stiffness (SAE 100R1 to R12)
             params.append(NewParam(f"{line}.l", 0.05, (0.01, 20.0), (0.2, 20.0), 2.0, True))
             params.append(NewParam(f"{line}.beta", 1.0e9, (5e7, 2.5e9), (1e8, 2.5e9), 1.0e9, True, primary=False))
+            params.append(NewParam(f"{line}.d", BORE, BORES, BORES, BORE, True, primary=False, shapes=SHAPES))
             plan.append((vp, new, node, line))
 
         def build(net):
