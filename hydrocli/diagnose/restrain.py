@@ -25,8 +25,9 @@ tolerance ``baseline.judge`` already accepts as "not far" — and, as for the bu
 every candidate tested from there must beat the free base.
 
 The pressure transducers' lags (:mod:`.measurement`, nuisance parameters) likewise: a fit that
-needs a lag beyond ``SLOW_TRANSDUCER`` (twice a transducer's usual millisecond) asks for a lag
-between the valve and the reading that the machine file lacks. It may be in the reading (a
+presses a lag against the measurement model's ceiling (``SLOW_TRANSDUCER``, within 5 % of it:
+three times a transducer's usual millisecond) asks for a lag between the valve and the reading
+that the machine file lacks. It may be in the reading (a
 slow sensor: ``sensor_lag``) or in the hydraulics — a hose between valve and chamber, air,
 a delayed command — and then the MOTION lags too, which a transducer cannot do. From a base
 whose transducers are restrained to a typical one's (≤ ``PRESSURE_TAU_TYPICAL``), every
@@ -39,10 +40,10 @@ from .baseline import MAX_FAR
 from ..netlist.model import Netlist
 from . import augment
 from .candidates import Context
-from .measurement import PRESSURE_TAU_START, PRESSURE_TAU_TYPICAL, sensor_components
+from .measurement import PRESSURE_TAU_BOUNDS, PRESSURE_TAU_TYPICAL, sensor_components
 
 OIL_MIN = 1.0e9   # Pa: the softest effective bulk modulus of oil in a rigid chamber
-SLOW_TRANSDUCER = 2.0 * PRESSURE_TAU_START   # s: a transducer lag the fit should not need
+SLOW_TRANSDUCER = 0.95 * PRESSURE_TAU_BOUNDS[1]   # s: a transducer lag pressed against the ceiling
 
 
 def limits(ctx: Context, estimates: dict[str, float], bounds: dict[str, tuple[float, float]],

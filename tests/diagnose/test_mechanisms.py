@@ -312,9 +312,9 @@ def test_primaries_are_judged_given_the_companions_that_shape_the_effect():
 
 
 def test_a_transducer_lag_beyond_a_transducers_restrains_every_pressure_sensor():
-    """A pressure-sensor lag the base fit pushes beyond twice a transducer's millisecond
+    """A pressure-sensor lag the base fit presses against the measurement model's ceiling
     stands for a lag the file lacks (a hose, or a slow sensor): every sensor is restrained to
-    a typical transducer's; lags a transducer has are left alone."""
+    a typical transducer's; lags a transducer has (up to 2.5 ms here) are left alone."""
     from hydrocli.diagnose import restrain
     from hydrocli.diagnose.measurement import PRESSURE_TAU_BOUNDS, PRESSURE_TAU_TYPICAL
     net, sensors = with_pressure_sensors(load_netlist(ROOT / "machines" / "eha_testbench.yaml"))
@@ -322,7 +322,7 @@ def test_a_transducer_lag_beyond_a_transducers_restrains_every_pressure_sensor()
     taus = sorted(f"{s}.tau" for s in sensors)
     assert len(taus) == 2
     bounds = {n: PRESSURE_TAU_BOUNDS for n in taus}
-    assert restrain.limits(ctx, {taus[0]: 1.2e-3, taus[1]: 1.9e-3}, bounds) == {}
+    assert restrain.limits(ctx, {taus[0]: 1.2e-3, taus[1]: 2.5e-3}, bounds) == {}
     lim = restrain.limits(ctx, {taus[0]: 3.0e-3, taus[1]: 0.8e-3}, bounds)
     assert lim == {n: (PRESSURE_TAU_BOUNDS[0], PRESSURE_TAU_TYPICAL) for n in taus}
 
