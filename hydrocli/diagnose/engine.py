@@ -274,8 +274,8 @@ def _restrained(su: Setup, base: Stage, lim: dict, st: Settings, progress) -> St
     for n, bounds in lim.items():
         p0[model.param_index(n)] = restrain.start(wanted[n], bounds)
     _log(progress, "the base fit's " + ", ".join(f"{n} = {wanted[n]:.4g}" for n in lim)
-         + " is implausible (a bulk modulus below oil's, a transducer lag beyond a transducer's, or a value "
-           "pushed to a bound far from the file's): "
+         + " is implausible (a bulk modulus below oil's, a transducer lag at the measurement model's ceiling, "
+           "or a value pushed to a bound far from the file's): "
            "re-identifying with it restrained, to test which missing effect it stands for…")
     res = baseline.identify(model, su.train, p_start=p0, iterations=st.base_evals,
                             progress=_fit_status(progress, "restrained base fit"))

@@ -18,8 +18,8 @@ from . import augment as A
 PRESSURE_TAU_BOUNDS = (1e-4, 3e-3)     # s: typical transducer + amplifier (≤ a few ms)
 PRESSURE_TAU_START = 1e-3
 PRESSURE_TAU_TYPICAL = 1.5e-3          # s: a transducer's lag with its amplifier, as datasheets give it;
-                                       # a fit that needs more (up to the ceiling above) stands for a lag
-                                       # the machine file lacks (:mod:`.restrain`)
+                                       # a fit that presses the ceiling above stands for a lag the machine
+                                       # file lacks, and is restrained to this (:mod:`.restrain`)
 SENSOR_TYPE = "pressure_sensor"
 
 

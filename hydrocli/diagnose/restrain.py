@@ -27,9 +27,9 @@ every candidate tested from there must beat the free base.
 The pressure transducers' lags (:mod:`.measurement`, nuisance parameters) likewise: a fit that
 presses a lag against the measurement model's ceiling (``SLOW_TRANSDUCER``, within 5 % of it:
 three times a transducer's usual millisecond) asks for a lag between the valve and the reading
-that the machine file lacks. It may be in the reading (a
-slow sensor: ``sensor_lag``) or in the hydraulics — a hose between valve and chamber, air,
-a delayed command — and then the MOTION lags too, which a transducer cannot do. From a base
+that the machine file lacks. It may be in the reading (a slow sensor: ``sensor_lag``) or in
+the hydraulics — a hose between valve and chamber, air, a delayed command — and then the
+MOTION lags too, which a transducer cannot do. From a base
 whose transducers are restrained to a typical one's (≤ ``PRESSURE_TAU_TYPICAL``), every
 candidate, the widened sensor included, competes on equal terms and must beat the free base.
 """
@@ -50,9 +50,9 @@ def limits(ctx: Context, estimates: dict[str, float], bounds: dict[str, tuple[fl
            initial: dict[str, float] | None = None, at_bound: set[str] | None = None) \
         -> dict[str, tuple[float, float]]:
     """name → restrained bounds: free actuator bulk moduli the base fit left below
-    :data:`OIL_MIN` (``OIL_MIN``, the file's upper bound), pressure-transducer lags beyond
-    :data:`SLOW_TRANSDUCER` (all of them, to a typical transducer's), and parameters
-    ``at_bound`` that moved more than ×``MAX_FAR`` from their ``initial`` (file) value (within
+    :data:`OIL_MIN` (``OIL_MIN``, the file's upper bound), pressure-transducer lags pressed
+    against the ceiling, beyond :data:`SLOW_TRANSDUCER` (all of them, to a typical transducer's),
+    and parameters ``at_bound`` that moved more than ×``MAX_FAR`` from their ``initial`` (file) value (within
     ×``MAX_FAR`` of it)."""
     out = {}
     for act in ctx.parts(R.ACTUATOR):

@@ -35,15 +35,13 @@ def screen_one(job: dict) -> dict:
             p[model.param_index(prm.name)] = prm.start
         r0 = obj.residuals(p)
         # the signature: secants of the parameters that have one (a shape companion probed at its
-        # start value only shapes the effect once the amount is there)
-        # taken with the companions at their start and at each of their typical shapes
+        # start value only shapes the effect once the amount is there), taken with the companions
+        # at their start and at each of their typical shapes
         probed = [prm for prm in job["params"] if prm.probe != prm.start]
         idx = [model.param_index(prm.name) for prm in probed]
         res, best_shape = None, {}
         for shape in _shapes(job["params"]):
-            q = p.copy()
-            for n, v in shape.items():
-                q[model.param_index(n)] = v
+            q = _at(model, p, shape)
             rq = obj.residuals(q) if shape else r0
             for probe in _probes(probed):
                 steps = [probe[prm.name] - prm.start for prm in probed]
@@ -82,6 +80,14 @@ def _probes(probed) -> list[dict]:
                 if all(abs(np.log(v / o[q.name])) > np.log(3.0) for o in out) and len(out) < 3:
                     out.append({**out[0], q.name: v})
     return out
+
+
+def _at(model, p: np.ndarray, values: dict[str, float]) -> np.ndarray:
+    """A copy of the parameter vector ``p`` with the named parameters set to ``values``."""
+    q = p.copy()
+    for n, v in values.items():
+        q[model.param_index(n)] = v
+    return q
 
 
 def _shapes(params) -> list[dict]:
@@ -225,9 +231,7 @@ def _fit_starts(obj, p: np.ndarray, model, starts: list[dict]) -> list[np.ndarra
     fits run; the lower final cost wins."""
     vecs = []
     for start in starts:
-        q = p.copy()
-        for n, v in start.items():
-            q[model.param_index(n)] = v
+        q = _at(model, p, start)
         vecs.append((obj.cost(q), q))
     order = sorted(range(len(vecs)), key=lambda i: vecs[i][0])
     out = [vecs[order[0]][1]]

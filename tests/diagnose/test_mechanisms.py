@@ -311,7 +311,7 @@ def test_primaries_are_judged_given_the_companions_that_shape_the_effect():
     assert conditional_stderr(["air", "n"], se[:2], None, {"n"}) == {"air": 0.4, "n": 3.0}   # no correlation: marginal
 
 
-def test_a_transducer_lag_beyond_a_transducers_restrains_every_pressure_sensor():
+def test_a_transducer_lag_at_the_ceiling_restrains_every_pressure_sensor():
     """A pressure-sensor lag the base fit presses against the measurement model's ceiling
     stands for a lag the file lacks (a hose, or a slow sensor): every sensor is restrained to
     a typical transducer's; lags a transducer has (up to 2.5 ms here) are left alone."""
