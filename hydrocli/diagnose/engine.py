@@ -274,9 +274,8 @@ def _restrained(su: Setup, base: Stage, lim: dict, st: Settings, progress) -> St
     for n, bounds in lim.items():
         p0[model.param_index(n)] = restrain.start(wanted[n], bounds)
     _log(progress, "the base fit's " + ", ".join(f"{n} = {wanted[n]:.4g}" for n in lim)
-         + " is implausible (a bulk modulus below oil's, a transducer lag at the measurement model's ceiling, "
-           "or a value pushed to a bound far from the file's): "
-           "re-identifying with it restrained, to test which missing effect it stands for…")
+         + f" is implausible ({restrain.WHY}): re-identifying with it restrained, to test which missing effect "
+           "it stands for…")
     res = baseline.identify(model, su.train, p_start=p0, iterations=st.base_evals,
                             progress=_fit_status(progress, "restrained base fit"))
     stage = _stage(augment.set_values(net, dict(zip(res.names, res.estimates))), model, res.p, res.cost, res.names,
@@ -294,10 +293,7 @@ def _base_fit_findings(su: Setup, base: Stage, judged: list[dict]) -> list[dict]
     val = residuals.total(base.esr_validation)
 
     def gain_at(values: dict[str, float]):
-        p_off = base.p.copy()
-        for n, v in values.items():
-            p_off[su.model.param_index(n)] = v
-        Y = residuals.simulate_outputs(su.model, su.validate, p_off)
+        Y = residuals.simulate_outputs(su.model, su.validate, su.model.param_vector(values, base=base.p))
         off_total = residuals.total(residuals.esr_table(su.model, su.validate, Y, su.outputs))
         return off_total - val, accept.need(off_total, su.noise_total, selected=False)
     chambers = [findings.Chambers(a.name, tuple(a.params("dead_volumes"))) for a in ctx.parts(R.ACTUATOR)]
@@ -580,8 +576,7 @@ def conclude(su: Setup, b: Baseline, final: Stage, accepted: list[dict], ranking
     if b.restrained is not None:
         rs = b.restrained
         data["restrained_base"] = {
-            "why": "a bulk modulus below oil's, or a value pushed to a bound far from the file's: "
-                   "tested which missing effect it stands for",
+            "why": f"{restrain.WHY}: tested which missing effect it stands for",
             "parameters": [{"name": n, "bounds": list(lim), "free_fit": float(b.stage.p[b.stage.model.param_index(n)]),
                             "restrained_fit": float(rs.p[rs.model.param_index(n)])} for n, lim in b.restraints.items()],
             "esr_train": rs.esr_train, "esr_validation": rs.esr_validation}

@@ -44,6 +44,8 @@ from .measurement import PRESSURE_TAU_BOUNDS, PRESSURE_TAU_TYPICAL, sensor_compo
 
 OIL_MIN = 1.0e9   # Pa: the softest effective bulk modulus of oil in a rigid chamber
 SLOW_TRANSDUCER = 0.95 * PRESSURE_TAU_BOUNDS[1]   # s: a transducer lag pressed against the ceiling
+WHY = ("a bulk modulus below oil's, a transducer lag at the measurement model's ceiling, "
+       "or a value pushed to a bound far from the file's")   # what :func:`limits` restrains, in words
 
 
 def limits(ctx: Context, estimates: dict[str, float], bounds: dict[str, tuple[float, float]],

@@ -41,7 +41,7 @@ def screen_one(job: dict) -> dict:
         idx = [model.param_index(prm.name) for prm in probed]
         res, best_shape = None, {}
         for shape in _shapes(job["params"]):
-            q = _at(model, p, shape)
+            q = model.param_vector(shape, base=p)
             rq = obj.residuals(q) if shape else r0
             for probe in _probes(probed):
                 steps = [probe[prm.name] - prm.start for prm in probed]
@@ -80,14 +80,6 @@ def _probes(probed) -> list[dict]:
                 if all(abs(np.log(v / o[q.name])) > np.log(3.0) for o in out) and len(out) < 3:
                     out.append({**out[0], q.name: v})
     return out
-
-
-def _at(model, p: np.ndarray, values: dict[str, float]) -> np.ndarray:
-    """A copy of the parameter vector ``p`` with the named parameters set to ``values``."""
-    q = p.copy()
-    for n, v in values.items():
-        q[model.param_index(n)] = v
-    return q
 
 
 def _shapes(params) -> list[dict]:
@@ -231,7 +223,7 @@ def _fit_starts(obj, p: np.ndarray, model, starts: list[dict]) -> list[np.ndarra
     fits run; the lower final cost wins."""
     vecs = []
     for start in starts:
-        q = _at(model, p, start)
+        q = model.param_vector(start, base=p)
         vecs.append((obj.cost(q), q))
     order = sorted(range(len(vecs)), key=lambda i: vecs[i][0])
     out = [vecs[order[0]][1]]

@@ -103,8 +103,10 @@ class Model:
     def state_index(self, name: str) -> int:
         return self.equations.states.index(name)
 
-    def param_vector(self, overrides: dict[str, float] | None = None) -> np.ndarray:
-        p = self.p0
+    def param_vector(self, overrides: dict[str, float] | None = None, base: np.ndarray | None = None) -> np.ndarray:
+        """A new parameter vector: ``base`` (the file's values when None) with the named
+        ``overrides`` set."""
+        p = self.p0 if base is None else np.array(base, dtype=float)
         for k, v in (overrides or {}).items():
             p[self.param_index(k)] = v
         return p

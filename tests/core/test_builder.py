@@ -84,3 +84,14 @@ def test_parameters_are_symbols_not_constants():
     """Changing a parameter must not need a rebuild: the C source holds p[i], not values."""
     m = build_model(load_netlist_text(TWO_VOLUMES))
     assert "1e-07" not in m.c_source and "p[" in m.c_source
+
+
+def test_param_vector_sets_names_into_a_copy_of_the_file_values_or_of_a_given_vector():
+    m = build_model(load_netlist_text(TWO_VOLUMES))
+    i = m.param_index("orf.Kv")
+    p = m.param_vector({"orf.Kv": 3e-7})
+    assert p[i] == 3e-7 and np.array_equal(np.delete(p, i), np.delete(m.p0, i))
+    base = np.arange(len(m.param_names), dtype=float) + 1.0
+    q = m.param_vector({"orf.Kv": 5e-7}, base=base)
+    assert q[i] == 5e-7 and np.array_equal(np.delete(q, i), np.delete(base, i))
+    assert base[i] == i + 1.0          # the given vector is not changed
