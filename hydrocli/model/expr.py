@@ -238,7 +238,7 @@ _PY_EVAL = {
     "abs": abs, "sign": lambda v: (v > 0) - (v < 0), "atan2": math.atan2, "min": min, "max": max,
     "pow": math.pow,
 }
-_C_NAMES = {"sqrt": "sqrt", "exp": "exp", "log": "log", "tanh": "tanh", "sin": "sin", "cos": "cos",
+_C_NAMES = {"sqrt": "sqrt", "exp": "exp", "log": "log", "tanh": "hy_tanh", "sin": "sin", "cos": "cos",
             "tan": "tan", "atan": "atan", "asin": "asin", "acos": "acos", "sinh": "sinh", "cosh": "cosh",
             "abs": "fabs", "sign": "hy_sign", "atan2": "atan2", "min": "fmin", "max": "fmax",
             "pow": "pow"}

@@ -211,6 +211,20 @@ _ARGTYPES = [
 ]
 
 
+def _finite_increasing(t: np.ndarray, strict: bool) -> bool:
+    """All finite and (strictly) increasing, in one pass over the differences: between finite
+    ends a NaN or infinity makes a difference NaN, and NaN fails every comparison.  (Two
+    passes over the 20 001-sample tables were ~2 % of the EHA's 20 s simulation.)"""
+    if t.shape[0] == 0:
+        return True
+    if not (np.isfinite(t[0]) and np.isfinite(t[-1])):
+        return False
+    if t.shape[0] == 1:
+        return True
+    d = np.min(np.diff(t))
+    return bool(d > 0) if strict else bool(d >= 0)
+
+
 def _vec(a, n: int, name: str) -> np.ndarray:
     arr = np.ascontiguousarray(a, dtype=np.float64).reshape(-1)
     if arr.shape[0] != n:
@@ -335,13 +349,13 @@ class CompiledModel:
         t0 = float(t0)
         if not np.isfinite(t0):
             raise ValueError("t0 must be finite")
-        if n_out:
+        if n_out and not _finite_increasing(t_out, strict=False):
             if not np.all(np.isfinite(t_out)):
                 raise ValueError("t_out must be finite")
             if np.any(np.diff(t_out) < 0):
                 raise ValueError("t_out must be non-decreasing")
-            if t_out[0] < t0:
-                raise ValueError(f"t_out[0] = {t_out[0]} is before t0 = {t0}")
+        if n_out and t_out[0] < t0:
+            raise ValueError(f"t_out[0] = {t_out[0]} is before t0 = {t0}")
         if nu > 0:
             if t_in is None or U is None or u_hold is None:
                 raise ValueError(f"the model has {nu} inputs: t_in, U and u_hold are required")
@@ -349,7 +363,7 @@ class CompiledModel:
             n_tin = t_in.shape[0]
             if n_tin < 1:
                 raise ValueError("t_in must have at least one sample")
-            if not np.all(np.isfinite(t_in)) or np.any(np.diff(t_in) <= 0):
+            if not _finite_increasing(t_in, strict=True):
                 raise ValueError("t_in must be finite and strictly increasing")
             U = np.ascontiguousarray(U, dtype=np.float64)
             if U.ndim == 1 and nu == 1:

@@ -19,6 +19,22 @@ _UNAVAILABLE: dict[str, str] = {}
 #: Rosenbrock coefficient sets of csrc/hy_methods.h by name (HY_METHOD)
 METHODS = {"rodas4": 1, "rodas4p": 2, "rodas5p": 3}
 DEFAULT_METHOD = "rodas5p"
+#: further compile-time options per method.  Rodas4P (the default of ``hydro simulate``) forms
+#: ∂f/∂t analytically from the generated ∂f/∂u (one right-hand side per step less) and uses the
+#: generated fast tanh (model/codegen.py: TANH_C), issue 16; the default Rodas5P library of the
+#: fitting commands keeps the forward difference and the C library's tanh, so their numbers
+#: are unchanged (a fit's path is sensitive to the last digits: a diagnose test's verdict
+#: flipped with the analytic ∂f/∂t).
+METHOD_DEFINES = {"rodas4p": ("HY_FT_ANALYTIC", "HY_FAST_TANH")}
+
+
+def method_source(model: Model, method: str) -> str:
+    """The C text of the model's library for ``method``: the model's source, preceded by the
+    method's defines for any method other than the default."""
+    if method == DEFAULT_METHOD:
+        return model.c_source
+    defines = [f"#define HY_METHOD {METHODS[method]}"] + [f"#define {d}" for d in METHOD_DEFINES.get(method, ())]
+    return "\n".join(defines) + "\n" + model.c_source
 
 
 def compiled(model: Model, method: str = DEFAULT_METHOD) -> CompiledModel:
@@ -37,8 +53,7 @@ def compiled(model: Model, method: str = DEFAULT_METHOD) -> CompiledModel:
         return model._compiled
     libs = model.__dict__.setdefault("_compiled_methods", {})
     if method not in libs:
-        libs[method] = CompiledModel(_c.build_library(f"#define HY_METHOD {METHODS[method]}\n" + model.c_source),
-                                     *sizes)
+        libs[method] = CompiledModel(_c.build_library(method_source(model, method)), *sizes)
     return libs[method]
 
 
@@ -53,6 +68,9 @@ def compiled_or_none(model, warn=None, method: str = DEFAULT_METHOD):
     """
     import sys
 
+    ready = model._compiled if method == DEFAULT_METHOD else model.__dict__.get("_compiled_methods", {}).get(method)
+    if ready is not None:       # built and loaded before: no hashing of the source per simulation
+        return ready
     key = hashlib.sha256(model.c_source.encode("utf-8")).hexdigest()
     if key in _UNAVAILABLE:
         return None
@@ -65,8 +83,7 @@ def compiled_or_none(model, warn=None, method: str = DEFAULT_METHOD):
         except (OSError, ValueError) as exc:             # a broken cached library: rebuild it once
             if not load_error(exc):
                 raise
-            src = model.c_source if method == DEFAULT_METHOD else f"#define HY_METHOD {METHODS[method]}\n" + model.c_source
-            os.unlink(_c.build_library(src))
+            os.unlink(_c.build_library(method_source(model, method)))
             return compiled(model, method)
     except (CompileError, OSError, ValueError) as exc:
         if not isinstance(exc, CompileError) and not load_error(exc):

@@ -46,7 +46,7 @@
  *   x_new = y_s + k_s;  error estimate = k_s (x_new minus the embedded solution).
  * Non-autonomous term f_t by a forward difference in t (inputs are evaluated on the
  *   segment the step starts in, so a kink of a linearly interpolated table is seen
- *   from the right).
+ *   from the right), or with HY_FT_ANALYTIC as df/du . du/dt (see hy_jacobian).
  * Jacobian: analytic if the model defines HY_HAS_JAC and
  *   `static int hy_jac(t, x, p, u, double *jv)` (values in HY_JAC_ROW/COL order);
  *   otherwise forward differences with Curtis-Powell-Reid column grouping
@@ -94,7 +94,7 @@
  *
  * HY_OUT_NO_INPUTS (set by the code generator when no output reads an input): the dense
  *   output skips the input lookup per output sample (~3 % of the EHA's run at 1 kHz output).
- * Compile-time knobs (define before including): HY_METHOD (3), HY_FORCE_DENSE, HY_FORCE_SPARSE,
+ * Compile-time knobs (define before including): HY_METHOD (3), HY_FT_ANALYTIC, HY_FORCE_DENSE, HY_FORCE_SPARSE,
  *   HY_DENSE_MAX (24), HY_PIVTOL (1e-8), HY_HAS_JAC, HY_SAFE (0.9), HY_GROW (6).
  *
  * Return codes of hy_simulate: 0 ok; 1 step size underflow; 2 max_steps exceeded;
@@ -161,6 +161,9 @@ typedef struct {
     int *cptr, *cidx;        /* col -> entry ids */
     int ngrp, *gptr, *gcol;  /* column groups */
     double *jv;              /* Jacobian values, HY_NNZ */
+#if defined(HY_HAS_JAC_U) && defined(HY_FT_ANALYTIC)
+    double fuv[HY_FU_NNZ > 0 ? HY_FU_NNZ : 1];   /* df/du values, HY_FU_ROW/COL order */
+#endif
     double *fdt;             /* df/dt */
     double *xp, *fp;         /* perturbation work */
     /* linear algebra */
@@ -239,6 +242,26 @@ static void hy_eval_u(hy_ws *w, double tau, int kcap, double *u)
     }
 #else
     (void)w; (void)tau; (void)kcap; (void)u;
+#endif
+}
+
+/* du/dt at tau: the slope of the interval hy_eval_u(tau, kcap) interpolates on (0 for a
+   zero-order-hold input and outside the table). */
+static void hy_eval_udot(hy_ws *w, double tau, int kcap, double *du)
+{
+#if HY_NU > 0
+    int j, k = hy_seg_find(w, tau);
+    if (k > kcap) k = kcap;
+    if (k < 0 || k >= w->n_tin - 1) {
+        for (j = 0; j < HY_NU; ++j) du[j] = 0.0;
+    } else {
+        const double *u0 = w->U + (size_t)k * HY_NU, *u1 = u0 + HY_NU;
+        const double idt = 1.0 / (w->t_in[k + 1] - w->t_in[k]);
+        for (j = 0; j < HY_NU; ++j)
+            du[j] = w->u_hold[j] == 1 ? 0.0 : (u1[j] - u0[j]) * idt;
+    }
+#else
+    (void)w; (void)tau; (void)kcap; (void)du;
 #endif
 }
 
@@ -402,7 +425,13 @@ static int hy_setup_pattern(hy_ws *w)
     return 0;
 }
 
-/* J (into w->jv) and df/dt (into w->fdt) at (t, x) where f0 = f(t, x). */
+/* J (into w->jv) and df/dt (into w->fdt) at (t, x) where f0 = f(t, x).
+   df/dt: with HY_FT_ANALYTIC and HY_HAS_JAC_U (the model reads t only through its inputs)
+   analytically, df/dt = df/du . du/dt, du/dt the slope of the input interval just after t
+   (the interval the forward difference sees); otherwise a forward difference in t, one
+   right-hand side per step.  The same step sequence to ~1e-8 relative: the EHA's errors at
+   rtol 1e-7, 1e-8 (Rodas5P) agree to 4 digits.  HY_FT_ANALYTIC is defined for the Rodas4P
+   library only (solve/library.py), so the fitting commands' Rodas5P runs keep their numbers. */
 static int hy_jacobian(hy_ws *w, double t, const double *x, const double *f0, int kcap)
 {
     const int n = HY_NX;
@@ -410,10 +439,26 @@ static int hy_jacobian(hy_ws *w, double t, const double *x, const double *f0, in
     int i, st;
     double dt;
     volatile double tt;
+    tt = t + sq * (fabs(t) > 1.0 ? fabs(t) : 1.0);
+    dt = tt - t;
 #ifdef HY_HAS_JAC
     hy_eval_u(w, t, kcap, w->u);
+#if defined(HY_HAS_JAC_U) && defined(HY_FT_ANALYTIC)
+    st = hy_jac_u(t, x, w->p, w->u, w->jv, w->fuv);
+    if (st) return st;
+    {
+        double du[HY_NU_A];
+        int e;
+        (void)f0;
+        hy_eval_udot(w, t + dt, kcap, du);
+        for (i = 0; i < n; ++i) w->fdt[i] = 0.0;
+        for (e = 0; e < HY_FU_NNZ; ++e) w->fdt[HY_FU_ROW[e]] += w->fuv[e] * du[HY_FU_COL[e]];
+    }
+    return 0;
+#else
     st = hy_jac(t, x, w->p, w->u, w->jv);
     if (st) return st;
+#endif
 #else
     {
         int g, q, r;
@@ -445,8 +490,6 @@ static int hy_jacobian(hy_ws *w, double t, const double *x, const double *f0, in
         }
     }
 #endif
-    tt = t + sq * (fabs(t) > 1.0 ? fabs(t) : 1.0);
-    dt = tt - t;
     st = hy_f(w, t + dt, x, kcap, w->fp);
     if (st) return st;
     for (i = 0; i < n; ++i) w->fdt[i] = (w->fp[i] - f0[i]) / dt;
@@ -455,17 +498,36 @@ static int hy_jacobian(hy_ws *w, double t, const double *x, const double *f0, in
 
 /* ---------------------------------------------------------------- driver */
 
+/* Output sample i: the state xo into row i of X_out (unless xo is that row already: the
+   dense output interpolates straight into it) and the outputs at it.  The copy is a loop:
+   a memcpy of this small constant size compiled to a `rep movs`, ~4 % of the EHA's run
+   at 1 kHz output (perf, issue 16). */
 static int hy_emit(hy_ws *w, int i, double to, const double *xo, double *X_out, double *Y_out)
 {
-    memcpy(X_out + (size_t)i * HY_NX, xo, sizeof(double) * HY_NX);
+    double *xr = X_out + (size_t)i * HY_NX;
+    int j;
+    if (xo != xr)
+        for (j = 0; j < HY_NX; ++j) xr[j] = xo[j];
 #if HY_NY > 0
 #ifndef HY_OUT_NO_INPUTS       /* defined by the generated model when no output reads an input */
     hy_eval_u(w, to, INT_MAX, w->u);
 #endif
-    return hy_out(to, xo, w->p, w->u, Y_out + (size_t)i * HY_NY);
+    return hy_out(to, xr, w->p, w->u, Y_out + (size_t)i * HY_NY);
 #else
     (void)w; (void)to; (void)Y_out;
     return 0;
+#endif
+}
+
+/* e^(1/R_Q), the step-size controller's root: two square roots for R_Q = 4 (Rodas4, Rodas4P),
+   a `pow` otherwise.  The controller takes two per accepted step; `pow` was ~3 % of the EHA's
+   run under Rodas4P (perf, issue 16). */
+static double hy_root_q(double e)
+{
+#if R_Q == 4
+    return sqrt(sqrt(e));
+#else
+    return pow(e, 1.0 / R_Q);
 #endif
 }
 
@@ -735,14 +797,15 @@ static int hy_integrate(
                         st = hy_emit(&W, iout, to, xn, X_out, Y_out);
                     } else {
                         double s = (to - t) / (tnext - t), s1;
+                        double *xo = X_out + (size_t)iout * n;     /* interpolate into the row */
                         if (s < 0.0) s = 0.0;
                         s1 = 1.0 - s;
                         for (i = 0; i < HY_NX; ++i) {
                             double v = dk[(size_t)(R_NH - 1) * n + i];
                             for (r = R_NH - 2; r >= 0; --r) v = dk[(size_t)r * n + i] + s * v;
-                            fs[i] = x[i] * s1 + s * (xn[i] + s1 * v);
+                            xo[i] = x[i] * s1 + s * (xn[i] + s1 * v);
                         }
-                        st = hy_emit(&W, iout, to, fs, X_out, Y_out);
+                        st = hy_emit(&W, iout, to, xo, X_out, Y_out);
                     }
                     if (st) { ret = 100 + st; break; }
                     ++iout;
@@ -753,11 +816,11 @@ static int hy_integrate(
             if (sn && (st = hy_sens_step(sn, &W, t, tnext, hstep, x, xn, K, kcap, t_out, n_out))) { ret = 100 + st; break; }
 #endif
             /* step size controller (Gustafsson, as in RODAS) */
-            fac = pow(err, 1.0 / R_Q) / HY_SAFE;
+            fac = hy_root_q(err) / HY_SAFE;
             if (fac > 5.0) fac = 5.0;
             if (fac < 1.0 / HY_GROW) fac = 1.0 / HY_GROW;
             if (!first) {
-                double facg = (hacc / hstep) * pow(err * err / erracc, 1.0 / R_Q) / HY_SAFE;
+                double facg = (hacc / hstep) * hy_root_q(err * err / erracc) / HY_SAFE;
                 if (facg > 5.0) facg = 5.0;
                 if (facg < 1.0 / HY_GROW) facg = 1.0 / HY_GROW;
                 if (facg > fac) fac = facg;
@@ -776,7 +839,7 @@ static int hy_integrate(
             worst = -1;
             if (iout >= n_out) break;
         } else {
-            double fac = pow(err, 1.0 / R_Q) / HY_SAFE;
+            double fac = hy_root_q(err) / HY_SAFE;
             if (fac > 5.0) fac = 5.0;
             if (fac < 1.0 / HY_GROW) fac = 1.0 / HY_GROW;
             nrej++;
