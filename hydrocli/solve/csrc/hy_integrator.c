@@ -519,6 +519,23 @@ static int hy_emit(hy_ws *w, int i, double to, const double *xo, double *X_out, 
 #endif
 }
 
+/* Dense output at s = (t_o - t)/h in (0, 1):
+   x(t + s h) = (1 - s) x + s (x_new + (1 - s) (K_0 + s (K_1 + s K_2 ...))), K_r = dk + r n.
+   The arguments are restrict-qualified (the row of X_out aliases none of them), so the
+   states are interpolated two at a time: ~0.08 ms (~3 %) off the EHA's 20 s at 1 kHz output
+   (interleaved A/B, issue 16). */
+static void hy_dense_row(const double *restrict x, const double *restrict xn, const double *restrict dk,
+                         double s, double *restrict xo)
+{
+    const double s1 = 1.0 - s;
+    int i, r;
+    for (i = 0; i < HY_NX; ++i) {
+        double v = dk[(size_t)(R_NH - 1) * HY_NX + i];
+        for (r = R_NH - 2; r >= 0; --r) v = dk[(size_t)r * HY_NX + i] + s * v;
+        xo[i] = x[i] * s1 + s * (xn[i] + s1 * v);
+    }
+}
+
 /* e^(1/R_Q), the step-size controller's root: two square roots for R_Q = 4 (Rodas4, Rodas4P),
    a `pow` otherwise.  The controller takes two per accepted step; `pow` was ~3 % of the EHA's
    run under Rodas4P (perf, issue 16). */
@@ -796,15 +813,10 @@ static int hy_integrate(
                     if (to == tnext) {
                         st = hy_emit(&W, iout, to, xn, X_out, Y_out);
                     } else {
-                        double s = (to - t) / (tnext - t), s1;
+                        double s = (to - t) / (tnext - t);
                         double *xo = X_out + (size_t)iout * n;     /* interpolate into the row */
                         if (s < 0.0) s = 0.0;
-                        s1 = 1.0 - s;
-                        for (i = 0; i < HY_NX; ++i) {
-                            double v = dk[(size_t)(R_NH - 1) * n + i];
-                            for (r = R_NH - 2; r >= 0; --r) v = dk[(size_t)r * n + i] + s * v;
-                            xo[i] = x[i] * s1 + s * (xn[i] + s1 * v);
-                        }
+                        hy_dense_row(x, xn, dk, s, xo);
                         st = hy_emit(&W, iout, to, xo, X_out, Y_out);
                     }
                     if (st) { ret = 100 + st; break; }
