@@ -15,7 +15,7 @@ from .equations import Equations, StateDeps, jacobian_pattern, order_variables
 
 
 def _dname(var: str, j: int, kind: str = "state") -> str:
-    return f"{var}@{j}" if kind == "state" else f"{var}@{'u' if kind == 'input' else 'p'}{j}"
+    return f"{var}@{j}" if kind == "state" else f"{var}@p{j}"
 
 
 def _dsym(var: str, j: int, kind: str = "state") -> E.Expr:
@@ -62,63 +62,22 @@ def jacobian_definitions(eqs: Equations, rows: list[int], cols: list[int]):
     return order, dvars, entries
 
 
-def reads_time(eqs: Equations) -> bool:
-    """Whether a state derivative reads the time ``t`` itself (not only through inputs)."""
-    roots = [eqs.derivatives[s] for s in eqs.states]
-    exprs = roots + [eqs.variables[v] for v in order_variables(eqs, roots)]
-    return any(k == "time" for e in exprs for k, _ in e.symbol_set)
-
-
-def input_jacobian_definitions(eqs: Equations):
-    """∂f/∂u of the state derivatives: (rows, cols, derivative-variable definitions, entries),
-    entries row by row (the states), columns the inputs each derivative depends on."""
-    udeps = StateDeps(eqs, "input")
-    roots = [eqs.derivatives[s] for s in eqs.states]
-    rows, cols, entries = [], [], []
-    for i, r in enumerate(roots):
-        for j in sorted(udeps.of(r)):
-            rows.append(i)
-            cols.append(j)
-            entries.append(_total(r, j, udeps))
-    return rows, cols, _dvars(eqs, order_variables(eqs, roots), udeps), entries
-
-
 def jacobian_c(eqs: Equations, names, rows: list[int], cols: list[int], max_chars: int | None = None) -> list[str]:
     """C lines of ``hy_jac`` (empty when its estimated size exceeds ``max_chars``: the
-    integrator then uses finite differences).
-
-    When no derivative reads ``t`` itself, also ``hy_jac_u``: ∂f/∂x and ∂f/∂u (values in
-    ``HY_FU_ROW/COL`` order) in one pass over the variables, ``HY_HAS_JAC_U``.  The integrator
-    then forms the Rosenbrock methods' ∂f/∂t = ∂f/∂u · du/dt (the inputs are the only time
-    dependence) instead of a forward difference that costs a right-hand side per step
-    (issue 16); ``hy_jac`` calls it."""
+    integrator then uses finite differences)."""
     if max_chars is not None and jacobian_size(eqs, names) > max_chars:
         return []
     order, dvars, entries = jacobian_definitions(eqs, rows, cols)
-    with_u = not reads_time(eqs)
-    head = "(double t, const double *x, const double *p, const double *u, double *jv"
-    if with_u:
-        urows, ucols, udvars, uentries = input_jacobian_definitions(eqs)
-        lines = ["#define HY_HAS_JAC", "#define HY_HAS_JAC_U", f"#define HY_FU_NNZ {len(urows)}",
-                 _c_array("HY_FU_ROW", urows), _c_array("HY_FU_COL", ucols),
-                 "static int hy_jac_u" + head + ", double *fuv) {",
-                 "    (void)t; (void)x; (void)p; (void)u; (void)fuv;"]
-    else:
-        udvars, uentries = [], []
-        lines = ["#define HY_HAS_JAC", "static int hy_jac" + head + ") {", "    (void)t; (void)x; (void)p; (void)u;"]
+    lines = ["#define HY_HAS_JAC",
+             "static int hy_jac(double t, const double *x, const double *p, const double *u, double *jv) {",
+             "    (void)t; (void)x; (void)p; (void)u;"]
     for v in order:
         lines.append(f"    const double {names(('var', v))} = {E.to_c(eqs.variables[v], names)};")
-    for dname, d in dvars + udvars:
+    for dname, d in dvars:
         lines.append(f"    const double {names(('dvar', dname))} = {E.to_c(d, names)};")
     for k, e in enumerate(entries):
         lines.append(f"    jv[{k}] = {E.to_c(e, names)};")
-    for k, e in enumerate(uentries):
-        lines.append(f"    fuv[{k}] = {E.to_c(e, names)};")
     lines += ["    return 0;", "}", ""]
-    if with_u:
-        lines += ["static int hy_jac" + head + ") {",
-                  f"    double fuv[{max(len(urows), 1)}];",
-                  "    return hy_jac_u(t, x, p, u, jv, fuv);", "}", ""]
     return lines
 
 
@@ -126,19 +85,6 @@ def jacobian_numpy_source(eqs: Equations, names, rows: list[int], cols: list[int
     """Python source of ``jacobian(t, x, p, u) -> list of entries`` (tests, fallback)."""
     order, dvars, entries = jacobian_definitions(eqs, rows, cols)
     body = ["import numpy as np", "", "def jacobian(t, x, p, u):", "    with np.errstate(all='ignore'):"]
-    body += [f"        {names(('var', v))} = {E.to_numpy(eqs.variables[v], names)}" for v in order]
-    body += [f"        {names(('dvar', d))} = {E.to_numpy(e, names)}" for d, e in dvars]
-    body.append("        return [" + ", ".join(E.to_numpy(e, names) for e in entries) + "]")
-    return "\n".join(body) + "\n"
-
-
-def input_jacobian_numpy_source(eqs: Equations, names) -> str:
-    """Python source of ``input_jacobian(t, x, p, u) -> list of ∂f/∂u entries`` and of the
-    ``rows``/``cols`` lists (tests: the entries ``hy_jac_u`` prints to C)."""
-    rows, cols, dvars, entries = input_jacobian_definitions(eqs)
-    order = order_variables(eqs, [eqs.derivatives[s] for s in eqs.states])
-    body = ["import numpy as np", "", f"rows = {rows}", f"cols = {cols}", "",
-            "def input_jacobian(t, x, p, u):", "    with np.errstate(all='ignore'):"]
     body += [f"        {names(('var', v))} = {E.to_numpy(eqs.variables[v], names)}" for v in order]
     body += [f"        {names(('dvar', d))} = {E.to_numpy(e, names)}" for d, e in dvars]
     body.append("        return [" + ", ".join(E.to_numpy(e, names) for e in entries) + "]")

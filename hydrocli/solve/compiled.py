@@ -374,9 +374,8 @@ class CompiledModel:
             if hold.ndim == 0:
                 hold = np.full(nu, hold)
             hold = hold.reshape(-1)
-            # 0 linear, 1 zero-order hold, 2 linear with steps ending on its kinks, 3 linear with
-            # steps ending on its large kinks only (csrc/hy_integrator.c: hy_setup_breaks)
-            hold = np.ascontiguousarray(np.where((hold == 2) | (hold == 3), hold, hold != 0), dtype=np.intc)
+            # 0 linear, 1 zero-order hold, 2 linear with steps ending on its kinks
+            hold = np.ascontiguousarray(np.where(hold == 2, 2, hold != 0), dtype=np.intc)
             if hold.shape[0] != nu:
                 raise ValueError(f"u_hold must have {nu} elements, got {hold.shape[0]}")
         else:

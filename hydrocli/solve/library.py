@@ -19,13 +19,12 @@ _UNAVAILABLE: dict[str, str] = {}
 #: Rosenbrock coefficient sets of csrc/hy_methods.h by name (HY_METHOD)
 METHODS = {"rodas4": 1, "rodas4p": 2, "rodas5p": 3}
 DEFAULT_METHOD = "rodas5p"
-#: further compile-time options per method.  Rodas4P (the default of ``hydro simulate``) forms
-#: ∂f/∂t analytically from the generated ∂f/∂u (one right-hand side per step less) and uses the
-#: generated fast tanh (model/codegen.py: TANH_C), issue 16; the default Rodas5P library of the
-#: fitting commands keeps the forward difference and the C library's tanh, so their numbers
-#: are unchanged (a fit's path is sensitive to the last digits: a diagnose test's verdict
-#: flipped with the analytic ∂f/∂t).
-METHOD_DEFINES = {"rodas4p": ("HY_FT_ANALYTIC", "HY_FAST_TANH")}
+#: further compile-time options per method.  Rodas4P (the default of ``hydro simulate``) uses
+#: the generated fast tanh (model/codegen.py: TANH_C, issue 16); the default Rodas5P library of
+#: the fitting commands keeps the C library's, so their numbers are unchanged (a fit's path is
+#: sensitive to the last digits: a diagnose test's verdict flipped with another last-digit
+#: change of the Rodas5P steps, docs/solver.md).
+METHOD_DEFINES = {"rodas4p": ("HY_FAST_TANH",)}
 
 
 def method_source(model: Model, method: str) -> str:

@@ -145,15 +145,11 @@ def simulate(model: Model, inputs: InputTable, t_out: np.ndarray, p: np.ndarray 
 
 
 def _hold_flags(model: Model, opts: SolverOptions | None = None) -> np.ndarray:
-    """Per input: 1 zero-order hold; linear inputs 0 (``"nominal"``: kinks crossed), or under
-    ``error_control="scaled"`` 2 (steps end on their kinks) with rtol ≤ :data:`LOOSE_RTOL` and
-    3 (steps end on large kinks only: the corners of step commands) above it.  A crossed
-    kink's O(h²) error matters only at tight tolerances; at looser ones landing on every 1 kHz
-    sample inside a transient costs steps and buys no accuracy, but a crossed step-command
-    corner costs rejections and an error the estimate misses (docs/solver.md)."""
-    lin = 0
-    if opts is not None and opts.error_control == "scaled":
-        lin = 2 if opts.rtol <= LOOSE_RTOL else 3
+    """Per input: 1 zero-order hold; linear inputs 0, or 2 (steps end on their kinks) under
+    ``error_control="scaled"`` with rtol ≤ :data:`LOOSE_RTOL` (a crossed kink's O(h²) error
+    matters only at tight tolerances; at looser ones landing on every 1 kHz sample inside
+    a transient costs steps and buys no accuracy, docs/solver.md)."""
+    lin = 2 if opts is not None and opts.error_control == "scaled" and opts.rtol <= LOOSE_RTOL else 0
     return np.array([1 if model.input_hold.get(n) == "zoh" else lin for n in model.input_names], dtype=np.int32)
 
 

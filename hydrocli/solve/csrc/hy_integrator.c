@@ -46,7 +46,7 @@
  *   x_new = y_s + k_s;  error estimate = k_s (x_new minus the embedded solution).
  * Non-autonomous term f_t by a forward difference in t (inputs are evaluated on the
  *   segment the step starts in, so a kink of a linearly interpolated table is seen
- *   from the right), or with HY_FT_ANALYTIC as df/du . du/dt (see hy_jacobian).
+ *   from the right).
  * Jacobian: analytic if the model defines HY_HAS_JAC and
  *   `static int hy_jac(t, x, p, u, double *jv)` (values in HY_JAC_ROW/COL order);
  *   otherwise forward differences with Curtis-Powell-Reid column grouping
@@ -65,9 +65,7 @@
  *   output time, to hmax, and -- only when some input is zero-order-hold -- to the
  *   next input sample time (a ZOH input is discontinuous there).  Inputs marked
  *   u_hold[j] == 2 are linear like 0, but steps end on their kinks (see
- *   hy_setup_breaks; used by SolverOptions(error_control="scaled") at rtol <= 1e-5);
- *   u_hold[j] == 3 likewise but only on large kinks (step-command corners; "scaled" above
- *   rtol 1e-5).
+ *   hy_setup_breaks; used by SolverOptions(error_control="scaled") at rtol <= 1e-5).
  * Recoverable failures: a stage that makes the model return a status code, or a
  *   non-finite error estimate, rejects the step and retries with h/5; only when
  *   the step size underflows is the status reported (so the reported time is the
@@ -94,7 +92,7 @@
  *
  * HY_OUT_NO_INPUTS (set by the code generator when no output reads an input): the dense
  *   output skips the input lookup per output sample (~3 % of the EHA's run at 1 kHz output).
- * Compile-time knobs (define before including): HY_METHOD (3), HY_FT_ANALYTIC, HY_FORCE_DENSE, HY_FORCE_SPARSE,
+ * Compile-time knobs (define before including): HY_METHOD (3), HY_FORCE_DENSE, HY_FORCE_SPARSE,
  *   HY_DENSE_MAX (24), HY_PIVTOL (1e-8), HY_HAS_JAC, HY_SAFE (0.9), HY_GROW (6).
  *
  * Return codes of hy_simulate: 0 ok; 1 step size underflow; 2 max_steps exceeded;
@@ -161,9 +159,6 @@ typedef struct {
     int *cptr, *cidx;        /* col -> entry ids */
     int ngrp, *gptr, *gcol;  /* column groups */
     double *jv;              /* Jacobian values, HY_NNZ */
-#if defined(HY_HAS_JAC_U) && defined(HY_FT_ANALYTIC)
-    double fuv[HY_FU_NNZ > 0 ? HY_FU_NNZ : 1];   /* df/du values, HY_FU_ROW/COL order */
-#endif
     double *fdt;             /* df/dt */
     double *xp, *fp;         /* perturbation work */
     /* linear algebra */
@@ -245,26 +240,6 @@ static void hy_eval_u(hy_ws *w, double tau, int kcap, double *u)
 #endif
 }
 
-/* du/dt at tau: the slope of the interval hy_eval_u(tau, kcap) interpolates on (0 for a
-   zero-order-hold input and outside the table). */
-static void hy_eval_udot(hy_ws *w, double tau, int kcap, double *du)
-{
-#if HY_NU > 0
-    int j, k = hy_seg_find(w, tau);
-    if (k > kcap) k = kcap;
-    if (k < 0 || k >= w->n_tin - 1) {
-        for (j = 0; j < HY_NU; ++j) du[j] = 0.0;
-    } else {
-        const double *u0 = w->U + (size_t)k * HY_NU, *u1 = u0 + HY_NU;
-        const double idt = 1.0 / (w->t_in[k + 1] - w->t_in[k]);
-        for (j = 0; j < HY_NU; ++j)
-            du[j] = w->u_hold[j] == 1 ? 0.0 : (u1[j] - u0[j]) * idt;
-    }
-#else
-    (void)w; (void)tau; (void)kcap; (void)du;
-#endif
-}
-
 static int hy_f(hy_ws *w, double t, const double *x, int kcap, double *dx)
 {
     hy_eval_u(w, t, kcap, w->u);
@@ -292,7 +267,7 @@ static int hy_first_nonfinite(const double *v, int n)
     return -1;
 }
 
-/* Input breakpoints (kinks) of the inputs marked u_hold[j] == 2 or 3 ("linear, do not
+/* Input breakpoints (kinks) of the inputs marked u_hold[j] == 2 ("linear, do not
    step blindly across its kinks").  A kink is an interior sample whose deviation from
    the straight line through its neighbours exceeds HY_KINK_TOL times the input's range
    over the table.  Stepping across a kink makes the local error O(h^2) instead of
@@ -309,12 +284,6 @@ static int hy_first_nonfinite(const double *v, int n)
    Longer steps cross small kinks: over many samples a smooth signal's table is smooth
    to the method.  No restart: the step size and the controller history are kept (a
    clipped step never shrinks the next one).
-   Inputs marked u_hold[j] == 3 ("linear, land on its large kinks only") contribute only
-   their large kinks: the corners of a step command, crossed blindly by a long step, both
-   cost rejections and leave an error that the embedded estimate misses (on the EHA at
-   rtol 1.5e-5 ... 3.5e-5 landing on them halved the largest error after the square-wave
-   command's jumps at unchanged step counts; used by SolverOptions(error_control="scaled")
-   above rtol 1e-5, where landing on every small kink would cost steps, see above).
    Returns 0, or -1 when out of memory. */
 #ifndef HY_KINK_TOL
 #define HY_KINK_TOL 1e-6
@@ -330,10 +299,10 @@ static int hy_setup_breaks(hy_ws *w)
 #if HY_NU > 0
     const int n = w->n_tin;
     int j, k;
-    double range[HY_NU], big_thr[HY_NU], small_thr[HY_NU];
+    double range[HY_NU];
     int any = 0;
     w->nbrk = 0; w->ibrk = 0;
-    for (j = 0; j < HY_NU; ++j) if (w->u_hold[j] == 2 || w->u_hold[j] == 3) any = 1;
+    for (j = 0; j < HY_NU; ++j) if (w->u_hold[j] == 2) any = 1;
     if (n < 3 || !any) return 0;
     w->brk = (int *)malloc(sizeof(int) * (size_t)n);
     if (!w->brk) return -1;
@@ -345,27 +314,18 @@ static int hy_setup_breaks(hy_ws *w)
             if (v > hi) hi = v;
         }
         range[j] = hi - lo;
-        /* thresholds of a large / a small kink; HUGE_VAL: never (other inputs, constant ones,
-           small kinks of a u_hold 3 input).  The scan costs ~50-80 us on the EHA's 20 001
-           samples (~3 % of its 20 s under u_hold 3) */
-        big_thr[j] = small_thr[j] = HUGE_VAL;
-        if ((w->u_hold[j] == 2 || w->u_hold[j] == 3) && range[j] > 0.0) {
-            big_thr[j] = HY_KINK_BIG * range[j];
-            if (w->u_hold[j] == 2) small_thr[j] = HY_KINK_TOL * range[j];
-        }
     }
     for (k = 1; k < n - 1; ++k) {
         const double t0 = w->t_in[k - 1], t1 = w->t_in[k], t2 = w->t_in[k + 1];
         const double th = (t1 - t0) / (t2 - t0);
-        const double *u = w->U + (size_t)(k - 1) * HY_NU;
-        int big = 0, small = 0;
         for (j = 0; j < HY_NU; ++j) {
-            const double dev = fabs(u[HY_NU + j] - (u[j] + th * (u[2 * HY_NU + j] - u[j])));
-            big |= dev > big_thr[j];
-            small |= dev > small_thr[j];
+            const double *u = w->U + (size_t)(k - 1) * HY_NU + j;
+            const double dev = u[HY_NU] - (u[0] + th * (u[2 * HY_NU] - u[0]));
+            if (w->u_hold[j] == 2 && range[j] > 0.0 && fabs(dev) > HY_KINK_TOL * range[j]) {
+                w->brk[w->nbrk++] = fabs(dev) > HY_KINK_BIG * range[j] ? -k : k;
+                break;
+            }
         }
-        if (big) w->brk[w->nbrk++] = -k;
-        else if (small) w->brk[w->nbrk++] = k;
     }
 #else
     (void)w;
@@ -425,13 +385,7 @@ static int hy_setup_pattern(hy_ws *w)
     return 0;
 }
 
-/* J (into w->jv) and df/dt (into w->fdt) at (t, x) where f0 = f(t, x).
-   df/dt: with HY_FT_ANALYTIC and HY_HAS_JAC_U (the model reads t only through its inputs)
-   analytically, df/dt = df/du . du/dt, du/dt the slope of the input interval just after t
-   (the interval the forward difference sees); otherwise a forward difference in t, one
-   right-hand side per step.  The same step sequence to ~1e-8 relative: the EHA's errors at
-   rtol 1e-7, 1e-8 (Rodas5P) agree to 4 digits.  HY_FT_ANALYTIC is defined for the Rodas4P
-   library only (solve/library.py), so the fitting commands' Rodas5P runs keep their numbers. */
+/* J (into w->jv) and df/dt (into w->fdt) at (t, x) where f0 = f(t, x). */
 static int hy_jacobian(hy_ws *w, double t, const double *x, const double *f0, int kcap)
 {
     const int n = HY_NX;
@@ -439,26 +393,10 @@ static int hy_jacobian(hy_ws *w, double t, const double *x, const double *f0, in
     int i, st;
     double dt;
     volatile double tt;
-    tt = t + sq * (fabs(t) > 1.0 ? fabs(t) : 1.0);
-    dt = tt - t;
 #ifdef HY_HAS_JAC
     hy_eval_u(w, t, kcap, w->u);
-#if defined(HY_HAS_JAC_U) && defined(HY_FT_ANALYTIC)
-    st = hy_jac_u(t, x, w->p, w->u, w->jv, w->fuv);
-    if (st) return st;
-    {
-        double du[HY_NU_A];
-        int e;
-        (void)f0;
-        hy_eval_udot(w, t + dt, kcap, du);
-        for (i = 0; i < n; ++i) w->fdt[i] = 0.0;
-        for (e = 0; e < HY_FU_NNZ; ++e) w->fdt[HY_FU_ROW[e]] += w->fuv[e] * du[HY_FU_COL[e]];
-    }
-    return 0;
-#else
     st = hy_jac(t, x, w->p, w->u, w->jv);
     if (st) return st;
-#endif
 #else
     {
         int g, q, r;
@@ -490,6 +428,8 @@ static int hy_jacobian(hy_ws *w, double t, const double *x, const double *f0, in
         }
     }
 #endif
+    tt = t + sq * (fabs(t) > 1.0 ? fabs(t) : 1.0);
+    dt = tt - t;
     st = hy_f(w, t + dt, x, kcap, w->fp);
     if (st) return st;
     for (i = 0; i < n; ++i) w->fdt[i] = (w->fp[i] - f0[i]) / dt;
