@@ -44,10 +44,10 @@ class SolverOptions:
 LOOSE_RTOL = 1e-5
 #: the default tolerance of ``hydro simulate`` / ``Machine.simulate``: ``"scaled"`` at this
 #: rtol, i.e. an accuracy.  On the EHA (20 s) the achieved error between rtol 1e-5 and 5e-5 is
-#: decided by stick-slip events and scatters 2-4x with small changes of rtol (0.006-0.042
-#: bar); over 1.2e-5 … 2e-5 it stayed ≤ 0.019 bar, 0.16 mm/s, at most half the hand-written
-#: BDF model's error, so the default sits there rather than at the fastest lucky value
-#: (docs/solver.md)
+#: decided by stick-slip events and scatters 2-4x with small changes of rtol (0.009-0.042
+#: bar); over 1.2e-5 … 3e-5 it stayed ≤ 0.039 bar, 0.27 mm/s, below the hand-written BDF
+#: model's error (≤ half of it over 1.2e-5 … 1.8e-5 in pressure), so the default sits there
+#: rather than at the fastest lucky value (docs/solver.md, sessions 4 and 5)
 SIMULATE_RTOL = 1.5e-5
 
 

@@ -39,9 +39,9 @@ def test_rodas4p_crossing_kinks_on_the_stiff_closed_form(tmp_path):
     """The loose-tolerance setting (Rodas4P, kinks crossed) on the stiff closed form of
     test_tolerance (λ = 1e4 and 3, 1 kHz table with a ramped step), errors falling with rtol.
     Rodas4P's embedded estimate is looser than Rodas5P's on the stiff input-driven state:
-    measured 47, 148, 54 × rtol at rtol 1e-3, 1e-4, 1.5e-5 (Rodas5P landing on the kinks: 13,
-    10, 18-29; the slow state: ≤ 5 × rtol for both) — the price of the default's speed,
-    documented in docs/solver.md."""
+    measured 17, 52, 44 × rtol at rtol 1e-3, 1e-4, 1.5e-5 (session 4: 47, 148, 54; Rodas5P
+    landing on the kinks: 13, 10, 18-29; the slow state: ≤ 5 × rtol for both) — the price of
+    the default's speed, documented in docs/solver.md."""
     lib = CompiledModel(build_library("#define HY_METHOD 2\n" + PR_SOURCE, cache_dir=tmp_path), 2, 2, 1, 0)
     t = np.arange(0.0, 2.0 + 5e-4, 1e-3)
     u = 0.5 * np.sin(2 * np.pi * 5 * t) + 0.5 * (np.sin(2 * np.pi * 0.7 * t) > 0)
@@ -61,9 +61,9 @@ def test_rodas4p_crossing_kinks_on_the_stiff_closed_form(tmp_path):
 def test_default_is_as_accurate_as_bdf_on_the_eha():
     """seed 004's EHA, the bench's 20 s (the issue's baseline is defined on it): hydro
     simulate's default against the hand-written model under Radau rtol 1e-10 is at least as
-    accurate as the hand-written model under solve_ivp BDF rtol 1e-6 (measured: 0.016 vs
-    0.044 bar, 0.11 vs 0.30 mm/s), and its pressure error is a small multiple of
-    rtol × 100 bar (measured 10.5)."""
+    accurate as the hand-written model under solve_ivp BDF rtol 1e-6 (measured: 0.011 vs
+    0.044 bar, 0.17 vs 0.30 mm/s; session 4: 0.016 bar, 0.11 mm/s), and its pressure error is a
+    small multiple of rtol × 100 bar (measured 7.5; session 4: 10.5)."""
     from scipy.integrate import solve_ivp
 
     t_end = 20.0
