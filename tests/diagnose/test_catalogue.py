@@ -114,3 +114,30 @@ def test_line_candidate_starts_reach_thin_long_and_wide_short_hoses(eha):
     assert reached(starts, 10.0, 0.006) and reached(starts, 3.0, 0.014)
     fixed_bore = [{**s, d_name: 0.01} for s in starts]
     assert not reached(fixed_bore, 10.0, 0.006)
+
+
+def test_a_small_overlap_or_play_that_the_data_resolve_is_plausible_a_parked_one_is_not(eha):
+    """The smallest dead bands named: 0.1 % of the stroke for an overlap, 0.05 % for a play
+    (candidates/valve.py). A dev EHA with a rounded 0.34 % overlap fitted 0.17–0.23 % per edge
+    at ±0.3–0.8 % (ΔBIC −11 437, validation x 2.25 → 0.11 %) and was rejected under the old
+    0.5 % floor, a worn-seal leak named instead; a band parked at "nearly off" stays out."""
+    from hydrocli.diagnose import accept
+    from hydrocli.diagnose.candidates.valve import MIN_LAP, MIN_PLAY
+    _, ctx = eha
+    cands = {c.effect: c for c in catalogue(ctx)[0] if not c.variant}
+    lap, play = cands["valve_overlap"], cands["valve_hysteresis"]
+
+    def verdict(cand, values, rel_se=0.005):
+        names = [p.name for p in cand.params]
+        est = [values.get(p.name, p.start) for p in cand.params]
+        fit = {"names": names, "estimates": est, "stderr": [rel_se * abs(v) for v in est], "cost": 0.5}
+        return accept.judge(cand, fit, ssr0=1.0, n_eff=5e4, val0=4.0, val1=1.0, noise=0.3)
+    edges = [p.name for p in lap.params if p.primary]
+    assert len(edges) == 4 and all(p.plausible[0] == MIN_LAP for p in lap.params if p.primary)
+    measured = dict(zip(edges, (0.00226, 0.00229, 0.00166, 0.00167)))
+    assert verdict(lap, measured)["passed"]
+    parked = verdict(lap, dict.fromkeys(edges, 0.5 * MIN_LAP))
+    assert not parked["passed"] and "plausible range" in parked["reasons"][0]
+    b = next(p.name for p in play.params if p.primary)
+    assert verdict(play, {b: 0.0021})["passed"] and verdict(play, {b: 2 * MIN_PLAY})["passed"]
+    assert not verdict(play, {b: 0.5 * MIN_PLAY})["passed"]

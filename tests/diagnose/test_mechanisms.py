@@ -207,18 +207,46 @@ def test_once_a_compliance_is_shortlisted_every_significant_other_compliance_is_
     assert [c.key for c in shortlist(order[:2] + order[3:], scores, 2)] == ["lag", "delay"]
 
 
+def test_once_a_lag_is_shortlisted_every_significant_other_lag_is_fitted():
+    """A delay, a valve play and a slow transducer all retard the response; a score at one
+    probe value ranks them poorly (dev EHA Dahl hysteresis: the delay screened 21 %, the play
+    was not fitted). Once one is in, the others that are significant are fitted too."""
+    from hydrocli.diagnose.engine import shortlist
+    C = lambda key, eq, eff: SimpleNamespace(key=key, equation=eq, effect=eff)
+    order = [C("delay", "signal", "input_delay"), C("mount", "force", "structural_flexibility"),
+             C("leak", "continuity", "internal_leakage"), C("overlap", "valve", "valve_overlap"),
+             C("play", "valve", "valve_hysteresis"), C("lag", "measurement", "sensor_lag")]
+    dr2 = {"delay": 0.21, "mount": 0.042, "leak": 0.03, "overlap": 0.02, "play": 0.011, "lag": 0.01}
+    scores = {k: {"dr2": v, "p_value": 1e-9} for k, v in dr2.items()}
+    # the play and the slow reading join the delay (the mount's compliance group is alone), and
+    # the play brings its fellow dead band, the overlap
+    assert [c.key for c in shortlist(order, scores, 3)] == ["delay", "mount", "leak", "play", "lag", "overlap"]
+    scores["play"]["p_value"] = 0.2                   # not significant: not fitted
+    assert [c.key for c in shortlist(order, scores, 3)] == ["delay", "mount", "leak", "lag"]
+    # no lag among the best: none is added (the overlap joins as the valve balance's rival, and
+    # the play, significant again, as the overlap's fellow dead band)
+    scores["play"]["p_value"] = 1e-9
+    assert [c.key for c in shortlist(order[1:], scores, 2)] == ["mount", "leak", "overlap", "play"]
+    assert [c.key for c in shortlist(order[1:3] + order[5:], scores, 2)] == ["mount", "leak"]
+
+
 def test_effect_traits_are_declared_by_the_family_that_models_the_effect():
     """Issue 11: the engine reads which effects switch and which are compliances from the
     families (a new candidate module declares its own), never from a list of names of its own."""
     import hydrocli.diagnose.engine as engine
-    from hydrocli.diagnose.candidates import COMPLIANCES, FAMILIES, SWITCHING, VOCABULARY
+    from hydrocli.diagnose.candidates import BANDS, COMPLIANCES, FAMILIES, LAGS, SWITCHING, VOCABULARY
     for f in FAMILIES:
-        assert f.switching <= set(f.effects) and f.compliances <= set(f.effects), type(f).__name__
+        assert f.switching | f.compliances | f.lags | f.bands <= set(f.effects), type(f).__name__
         assert set(f.effects) <= set(VOCABULARY), type(f).__name__
     assert engine.SWITCHING is SWITCHING and engine.COMPLIANCES is COMPLIANCES
     # the four ways a machine gets softer than its file: air, a hose, a rod-load link, a mount
     assert {"entrained_air", "line_dynamics", "load_compliance", "structural_flexibility"} == COMPLIANCES
     assert not COMPLIANCES & SWITCHING
+    # the three ways a response is retarded without a new compliance: a delay, a play, a slow reading
+    assert engine.LAGS is LAGS and {"input_delay", "valve_hysteresis", "sensor_lag"} == LAGS
+    assert not LAGS & COMPLIANCES
+    # a spool's two dead bands: around centre (overlap) and around the last reversal (play)
+    assert engine.BANDS is BANDS and {"valve_overlap", "valve_hysteresis"} == BANDS
 
 
 def test_a_rod_load_link_starts_at_rest_under_its_load_and_carries_joint_friction():

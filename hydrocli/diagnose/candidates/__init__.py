@@ -28,6 +28,8 @@ def _discover() -> tuple[Family, ...]:
 FAMILIES = _discover()
 SWITCHING = frozenset().union(*(f.switching for f in FAMILIES))       # effects whose law switches
 COMPLIANCES = frozenset().union(*(f.compliances for f in FAMILIES))   # effects that add a compliance
+LAGS = frozenset().union(*(f.lags for f in FAMILIES))                 # effects that retard the response
+BANDS = frozenset().union(*(f.bands for f in FAMILIES))               # dead bands of one element
 
 
 def catalogue(ctx: Context) -> tuple[list[Candidate], list[Skipped]]:
@@ -41,4 +43,4 @@ def catalogue(ctx: Context) -> tuple[list[Candidate], list[Skipped]]:
     return cands, skipped
 
 
-__all__ = ["VOCABULARY", "Candidate", "Context", "NewParam", "Skipped", "catalogue", "FAMILIES", "SWITCHING", "COMPLIANCES"]
+__all__ = ["VOCABULARY", "Candidate", "Context", "NewParam", "Skipped", "catalogue", "FAMILIES", "SWITCHING", "COMPLIANCES", "LAGS", "BANDS"]

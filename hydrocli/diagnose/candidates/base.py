@@ -180,6 +180,10 @@ class Family:
     compliances: frozenset[str] = frozenset()   # effects that add a compliance (a mode whose
                                                 # frequency moves with its stiffness): once one is
                                                 # shortlisted the others are fitted too (engine.shortlist)
+    lags: frozenset[str] = frozenset()          # effects that retard the response to a command (a
+                                                # delay, a play, a slow reading): likewise
+    bands: frozenset[str] = frozenset()         # dead bands of one element (a spool's overlap around
+                                                # centre, its play around the last reversal): likewise
 
     def candidates(self, ctx: Context) -> list[Candidate]:  # pragma: no cover - abstract
         raise NotImplementedError

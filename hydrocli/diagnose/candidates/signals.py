@@ -17,6 +17,7 @@ MIN_DELAY = 2e-3   # s: shorter "delays" are sampling/interpolation artefacts of
 
 class InputDelayFamily(Family):
     effects = ("input_delay",)
+    lags = frozenset({"input_delay"})
 
     def candidates(self, ctx: Context):
         out = []
@@ -49,6 +50,7 @@ class SensorLagFamily(Family):
     ``SLOW_SENSOR_MAX``, and adds a lag to position/velocity (angle/speed) outputs."""
 
     effects = ("sensor_lag",)
+    lags = frozenset({"sensor_lag"})
 
     def candidates(self, ctx: Context):
         out = []

@@ -9,10 +9,29 @@ from .. import augment as A
 from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 
+# The smallest dead bands worth naming, as a share of the spool stroke. What a band DOES is for
+# ΔBIC, the resolution of its estimate and the held-out gain to say, not for the range (as for
+# leaks, candidates/leakage.py): these floors only keep a fit that parks the band at "nearly
+# off" to mop up something else from being named. 0.1 % is ten times the edges' smoothing
+# (valve eps_x); a "zero-lap" spool's tolerance is of that order. Measured (dev EHA, rounded
+# overlap of 0.34 % with 0.14 % edge radius, effect 2.4 % ESR): the overlap fitted 0.17–0.23 %
+# at ±0.3–0.8 %, ΔBIC −11 437 against a worn-seal leak's −5 407, validation x 2.25 → 0.11 %
+# (leak: 1.03 %), and was rejected only by the former 0.5 % floor; the leak was named.
+MIN_LAP = 1e-3
+MIN_PLAY = 5e-4   # dev EHA plays of 0.09–0.22 % (effects 0.6–2.1 % ESR); a play's half-width
+
 
 class ValveFamily(Family):
     effects = ("valve_overlap", "valve_asymmetry", "valve_hysteresis")
     switching = frozenset({"valve_hysteresis", "valve_overlap"})
+    # a play retards the spool after every reversal by b/|du/dt|: a lag whose size depends on
+    # the command's rate, which a score at one probe value cannot rank against a delay
+    lags = frozenset({"valve_hysteresis"})
+    # an overlap is a dead band of the spool around centre, a play one around the last reversal:
+    # under a command that reverses near centre both stall the flow at the same moments, and the
+    # secant of a 1 % probe ranks a 0.2 % play far below the overlap (dev EHA play: 3.4 % against
+    # 14.3 %; fitted alone the play passed at ΔBIC −4880)
+    bands = frozenset({"valve_overlap", "valve_hysteresis"})
 
     def candidates(self, ctx: Context):
         valves = ctx.parts(R.METERING_VALVE)
@@ -25,11 +44,10 @@ class ValveFamily(Family):
             if overlaps and leak:
                 out.append(self.parameter_candidate(
                     ctx, "valve_overlap", v,
-                    [NewParam(e, 0.0, (-0.05, 0.1), (5e-3, 0.1), 0.01) for e in overlaps]
+                    [NewParam(e, 0.0, (-0.05, 0.1), (MIN_LAP, 0.1), 0.01) for e in overlaps]
                     + [NewParam(leak, 1e-14, (1e-15, 1e-10), (1e-14, 1e-10), 1e-12, True, primary=False)],
                     "valve", "overlap (dead band) of the metering edges around spool centre, with the leakage "
-                             "of the covered edges (below 0.5 % of the stroke: within the lap tolerance of a "
-                             "zero-lap spool, not an effect)"))
+                             "of the covered edges (below 0.1 % of the stroke: not an effect)"))
             else:
                 out.append(Skipped("valve_overlap", f"'{v}' ({part.type}) has no edge overlaps"))
             ratio = part.param("direction_ratio")
@@ -53,7 +71,7 @@ class ValveFamily(Family):
         node = A.unique_name(ctx.net, f"{cmd}_{valve}")
         # half-width b, and the rounding of the band's edges (a companion): magnetic hysteresis
         # of a torque motor closes its loop gradually, a worn linkage's play abruptly
-        params = [NewParam(f"{play}.b", 1e-4, (0.0, 0.1), (2e-3, 0.1), 0.01),
+        params = [NewParam(f"{play}.b", 1e-4, (0.0, 0.1), (MIN_PLAY, 0.1), 0.01),
                   NewParam(f"{play}.eps", 1e-4, (1e-5, 0.02), (1e-5, 0.02), 2e-3, True, primary=False)]
 
         def build(net):
