@@ -443,11 +443,12 @@ def shortlist(order: list[Candidate], scores: dict, n_fit: int) -> list[Candidat
             picked.append(c)
             seen.add(c.equation)
     for group in GROUPS:
-        if group & {c.effect for c in picked}:
-            for c in order:
-                if (c.effect in group and c.effect not in {q.effect for q in picked}
-                        and scores[c.key]["p_value"] < RIVAL_P):
+        have = {c.effect for c in picked}
+        if group & have:
+            for c in order:               # the best form of each other significant member
+                if c.effect in group and c.effect not in have and scores[c.key]["p_value"] < RIVAL_P:
                     picked.append(c)
+                    have.add(c.effect)
     return picked
 
 

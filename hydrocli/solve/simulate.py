@@ -47,7 +47,7 @@ LOOSE_RTOL = 1e-5
 #: decided by stick-slip events and scatters 2-4x with small changes of rtol (0.009-0.042
 #: bar); over 1.2e-5 … 3e-5 it stayed ≤ 0.039 bar, 0.27 mm/s, below the hand-written BDF
 #: model's error (≤ half of it over 1.2e-5 … 1.8e-5 in pressure), so the default sits there
-#: rather than at the fastest lucky value (docs/solver.md, sessions 4 and 5)
+#: rather than at the fastest lucky value (docs/solver.md, sessions 4 and 17)
 SIMULATE_RTOL = 1.5e-5
 
 

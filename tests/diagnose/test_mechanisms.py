@@ -192,14 +192,19 @@ def test_shortlist_adds_the_best_competing_candidate_of_each_other_balance():
     assert [c.key for c in shortlist(order, scores, 3)] == ["mount", "hyst", "lag", "leak"]
 
 
+def _screened(*rows):
+    """Candidates in screening order and their scores, from (key, balance, effect, explained)
+    rows, every score test significant."""
+    order = [SimpleNamespace(key=k, equation=eq, effect=eff) for k, eq, eff, _ in rows]
+    return order, {k: {"dr2": dr2, "p_value": 1e-9} for k, _, _, dr2 in rows}
+
+
 def test_once_a_compliance_is_shortlisted_every_significant_other_compliance_is_fitted():
     from hydrocli.diagnose.engine import shortlist
-    C = lambda key, eq, eff: SimpleNamespace(key=key, equation=eq, effect=eff)
-    order = [C("lag", "measurement", "sensor_lag"), C("delay", "signal", "input_delay"),
-             C("mount", "force", "structural_flexibility"), C("link", "force", "load_compliance"),
-             C("air", "continuity", "entrained_air"), C("hose", "continuity", "line_dynamics")]
-    dr2 = {"lag": 0.13, "delay": 0.12, "mount": 0.061, "link": 0.029, "air": 0.019, "hose": 0.016}
-    scores = {k: {"dr2": v, "p_value": 1e-9} for k, v in dr2.items()}
+    order, scores = _screened(
+        ("lag", "measurement", "sensor_lag", 0.13), ("delay", "signal", "input_delay", 0.12),
+        ("mount", "force", "structural_flexibility", 0.061), ("link", "force", "load_compliance", 0.029),
+        ("air", "continuity", "entrained_air", 0.019), ("hose", "continuity", "line_dynamics", 0.016))
     assert [c.key for c in shortlist(order, scores, 3)] == ["lag", "delay", "mount", "link", "air", "hose"]
     scores["hose"]["p_value"] = 0.2                   # not significant: not fitted
     assert "hose" not in [c.key for c in shortlist(order, scores, 3)]
@@ -212,12 +217,10 @@ def test_once_a_lag_is_shortlisted_every_significant_other_lag_is_fitted():
     probe value ranks them poorly (dev EHA Dahl hysteresis: the delay screened 21 %, the play
     was not fitted). Once one is in, the others that are significant are fitted too."""
     from hydrocli.diagnose.engine import shortlist
-    C = lambda key, eq, eff: SimpleNamespace(key=key, equation=eq, effect=eff)
-    order = [C("delay", "signal", "input_delay"), C("mount", "force", "structural_flexibility"),
-             C("leak", "continuity", "internal_leakage"), C("overlap", "valve", "valve_overlap"),
-             C("play", "valve", "valve_hysteresis"), C("lag", "measurement", "sensor_lag")]
-    dr2 = {"delay": 0.21, "mount": 0.042, "leak": 0.03, "overlap": 0.02, "play": 0.011, "lag": 0.01}
-    scores = {k: {"dr2": v, "p_value": 1e-9} for k, v in dr2.items()}
+    order, scores = _screened(
+        ("delay", "signal", "input_delay", 0.21), ("mount", "force", "structural_flexibility", 0.042),
+        ("leak", "continuity", "internal_leakage", 0.03), ("overlap", "valve", "valve_overlap", 0.02),
+        ("play", "valve", "valve_hysteresis", 0.011), ("lag", "measurement", "sensor_lag", 0.01))
     # the play and the slow reading join the delay (the mount's compliance group is alone), and
     # the play brings its fellow dead band, the overlap
     assert [c.key for c in shortlist(order, scores, 3)] == ["delay", "mount", "leak", "play", "lag", "overlap"]

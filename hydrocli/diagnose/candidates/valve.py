@@ -47,7 +47,7 @@ class ValveFamily(Family):
                     [NewParam(e, 0.0, (-0.05, 0.1), (MIN_LAP, 0.1), 0.01) for e in overlaps]
                     + [NewParam(leak, 1e-14, (1e-15, 1e-10), (1e-14, 1e-10), 1e-12, True, primary=False)],
                     "valve", "overlap (dead band) of the metering edges around spool centre, with the leakage "
-                             "of the covered edges (below 0.1 % of the stroke: not an effect)"))
+                             f"of the covered edges (below {100 * MIN_LAP:g} % of the stroke: not an effect)"))
             else:
                 out.append(Skipped("valve_overlap", f"'{v}' ({part.type}) has no edge overlaps"))
             ratio = part.param("direction_ratio")
