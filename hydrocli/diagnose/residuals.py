@@ -16,7 +16,7 @@ from ..metrics import effective_samples, esr
 from ..model.model import Model
 from ..solve.simulate import SolverOptions, simulate
 
-OPTS = SolverOptions(rtol=1e-5)
+OPTS = SolverOptions(rtol=1e-6)
 
 
 def objective(model: Model, exps: list[Experiment]) -> Objective:
