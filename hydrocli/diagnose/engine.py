@@ -76,6 +76,7 @@ class Stage:
     esr_validation: dict[str, float]
     Y_train: list[np.ndarray]
     Y_validation: list[np.ndarray]
+    stderr: dict[str, float] = field(default_factory=dict)   # the fit's (inflated) standard errors, by name
 
 
 @dataclass
@@ -158,11 +159,11 @@ def load_data(model, net, paths):
     return out
 
 
-def _stage(net, model, p, cost, free, train, validate, outputs) -> Stage:
+def _stage(net, model, p, cost, free, train, validate, outputs, stderr=None) -> Stage:
     Ytr = residuals.simulate_outputs(model, train, p)
     Yva = residuals.simulate_outputs(model, validate, p)
     return Stage(net, model, p, cost, free, residuals.esr_table(model, train, Ytr, outputs),
-                 residuals.esr_table(model, validate, Yva, outputs), Ytr, Yva)
+                 residuals.esr_table(model, validate, Yva, outputs), Ytr, Yva, dict(stderr or {}))
 
 
 def _inputs_start(model, exps) -> dict:
@@ -284,17 +285,19 @@ def _restrained(su: Setup, base: Stage, lim: dict, st: Settings, progress) -> St
     return stage
 
 
-def _base_fit_findings(su: Setup, base: Stage, judged: list[dict]) -> list[dict]:
+def _base_fit_findings(su: Setup, stage: Stage, judged: list[dict]) -> list[dict]:
     """Effects whose parameter the file already has free from "off" and the fit moved, and
-    entrained air the fit put into the chambers' volumes (:mod:`.findings`)."""
-    ctx = replace(_context(su, base), net=su.net, free=set())
+    entrained air the fit put into the chambers' volumes (:mod:`.findings`), judged on
+    ``stage`` (the base fit, or the final model: :func:`_still_found`)."""
+    ctx = replace(_context(su, stage), net=su.net, free=set())
     cands, _ = catalogue(ctx)
     offs = findings.off_values(cands)
-    val = residuals.total(base.esr_validation)
+    val = residuals.total(stage.esr_validation)
+    model = stage.model
 
     def gain_at(values: dict[str, float]):
-        Y = residuals.simulate_outputs(su.model, su.validate, su.model.param_vector(values, base=base.p))
-        off_total = residuals.total(residuals.esr_table(su.model, su.validate, Y, su.outputs))
+        Y = residuals.simulate_outputs(model, su.validate, model.param_vector(values, base=stage.p))
+        off_total = residuals.total(residuals.esr_table(model, su.validate, Y, su.outputs))
         return off_total - val, accept.need(off_total, su.noise_total, selected=False)
     chambers = [findings.Chambers(a.name, tuple(a.params("dead_volumes"))) for a in ctx.parts(R.ACTUATOR)]
     return (findings.base_fit_findings(judged, offs, lambda names: gain_at({n: offs[n].ref for n in names}))
@@ -557,7 +560,8 @@ def _polish(su: Setup, stage: Stage, c: Candidate, text: str, f: dict, n_eff: fl
             p_c, f = pol.p, dict(f, cost=pol.cost, names=pol.names, estimates=pol.estimates.tolist(),
                                  stderr=baseline.inflated_stderr(pol, n_eff).tolist())
     aug = augment.set_values(aug, {n: p_c[model_c.param_index(n)] for n in free_c})
-    return _stage(aug, model_c, p_c, f["cost"], free_c, su.train, su.validate, su.outputs), f
+    return _stage(aug, model_c, p_c, f["cost"], free_c, su.train, su.validate, su.outputs,
+                  dict(zip(f["names"], f["stderr"]))), f
 
 
 # -- step 4 -------------------------------------------------------------------------------
@@ -625,11 +629,33 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
             accepted.append(rnd.accepted)
             history.append(stage)
             stage = rnd.stage
+    if stage is not b.stage:
+        accepted = _still_found(su, b, stage, accepted, progress)
     data = conclude(su, b, stage, accepted, ranking, skipped, train_paths, validate_paths, t_start)
     if ambiguous:
         data["ambiguous"] = [{k: v for k, v in a.items() if k != "proposed_experiment_text"} for a in ambiguous]
     return Diagnosis(data, b.stage, stage, su.train, su.validate, su.outputs, history,
                      [a.get("proposed_experiment_text", "") for a in ambiguous])
+
+
+def _still_found(su: Setup, b: Baseline, final: Stage, accepted: list[dict], progress=None) -> list[dict]:
+    """The base fit's findings (:func:`_base_fit_findings`) judged again, by the same rules, on
+    the final model. A base-fit value may stand in for an effect a candidate then modelled:
+    chamber volumes grown ×4 to mimic a delayed command go back to the drawing's once the
+    delay is in (dev EHA input delay: V_A0 ×4.3 → ×1.15). The finding is kept only while
+    the final model still needs it; a finding that lets the base model run at all (stops at
+    the recorded ends, :mod:`.runaway`) is not re-judged."""
+    judged = [dict(j, value=float(final.p[final.model.param_index(j["name"])]), stderr=final.stderr[j["name"]])
+              for j in b.judged if j["name"] in final.stderr and j["name"] in final.model.param_names]
+    again = {(f["effect"], f["component"]) for f in _base_fit_findings(su, final, judged)}
+    keep = []
+    for a in accepted:
+        if a.get("source") == "base_fit" and "validation_gain" in a and (a["effect"], a["component"]) not in again:
+            _log(progress, f"  the base fit's {a['effect']} on '{a['component']}' is withdrawn: the final model "
+                           "no longer needs it (it stood in for an effect the candidates then modelled)")
+            continue
+        keep.append(a)
+    return keep
 
 
 def _param(judged, name):

@@ -9,7 +9,8 @@ KAPPA = 1.4
 
 
 def effective_bulk_modulus(beta, p, air, n=KAPPA, p_dissolve=None):
-    """Bulk modulus of oil with entrained air (free-air volume fraction ``air`` at 1 bar).
+    """Bulk modulus of oil with entrained air (``air``: free-air volume at 1 bar per volume of
+    oil, r₀; the volume fraction at 1 bar is r₀/(1 + r₀)).
 
     β_e = β·(1 + r) / (1 + r·β/(n·p)), r = α·(p₀/p)^(1/n)·d(p): the air-in-oil mixture of
     Merritt and Jelali & Kroll eq. 3.12 with a polytropic exponent n (1.4 isentropic: fast
@@ -29,7 +30,8 @@ def effective_bulk_modulus(beta, p, air, n=KAPPA, p_dissolve=None):
 
 #: the oil-and-air parameters of every component that holds oil in a volume (spec as data)
 AIR_PARAMS = (
-    Param("air", "1", 0.0, "entrained (free) air volume fraction at 1 bar", min=0.0, max=0.5, bounds=(0.0, 0.1)),
+    Param("air", "1", 0.0, "entrained (free) air at 1 bar per volume of oil, r (the volume fraction is r/(1 + r))",
+          min=0.0, max=1.0, bounds=(0.0, 0.1)),
     Param("air_n", "1", KAPPA, "polytropic exponent of the air: 1.4 isentropic, 1 isothermal", min=1.0, max=1.4,
           bounds=(1.0, 1.4)),
     Param("p_dissolve", "Pa", 0.0, "pressure at which the free air has dissolved (Henry's law); 0 = never",

@@ -20,6 +20,10 @@ from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 STOP_PRESSURE = 1e7    # Pa: the load pressure the softest stop must arrest (100 bar)
 K_STOP_FLOOR = 1e5     # N/m: the stop stiffness floor of the cylinders (a vane's is lower, in N·m/rad)
+AIR_MAX = 1.0          # free air per volume of oil at 1 bar the air candidates may reach (fluid.AIR_PARAMS'
+                       # limit): half the volume at 1 bar, yet 6 % at 50 bar (isentropic) — oil foaming in a
+                       # tank. A dev EHA case with 38 % air by volume at 1 bar (r = 0.61) had been rejected at
+                       # the old bound 0.3 on r
 REF_SIZE = 2.0994e-3   # m²: seed 004's piston area, where the leakage ranges below were set.
 # Leakage ranges scale with the actuator's size (area, or displacement per radian): a leak
 # conductance c matters through the drift speed c·Δp/size it allows, so the same ranges of
@@ -89,7 +93,7 @@ class CylinderFamily(Family):
 
     def _air(self, ctx: Context, act: Part, a: str, b: str):
         name = act.param("air")
-        desc = ("undissolved air lowers the chamber stiffness at low pressure (log scale up to 30 %: an "
+        desc = ("undissolved air lowers the chamber stiffness at low pressure (log scale up to as much air as oil at 1 bar: an "
                 "isentropic fit of isothermal, partly dissolving air needs more)")
         if name is not None:
             # the air law's shape is identified with its amount (companions): polytropic exponent
@@ -103,7 +107,7 @@ class CylinderFamily(Family):
                 shape.append(NewParam(act.param("air_dissolve"), 5e7, (2e5, 5e7), (2e5, 5e7), 5e7, True, primary=False,
                                       ref=5e7))
             return self.parameter_candidate(
-                ctx, "entrained_air", act.name, [NewParam(name, 1e-4, (1e-5, 0.3), (1e-3, 0.3), 0.03, True)] + shape,
+                ctx, "entrained_air", act.name, [NewParam(name, 1e-4, (1e-5, AIR_MAX), (1e-3, AIR_MAX), 0.03, True)] + shape,
                 "continuity", desc)
         return _air_volumes(ctx, act, [a, b], desc)
 
@@ -213,7 +217,7 @@ def _air_volumes(ctx: Context, act: Part, nodes: list[str], description: str) ->
     size = ctx.size(act)
     v_nom = max(size * 0.5, 1e-6)          # half a radian (or metre) of displacement: a chamber's order
     # one fraction per chamber; the first sizes the effect, the others are companions
-    params = [NewParam(f"{n}.{air}", 1e-4, (1e-5, 0.3), (1e-3, 0.3), 0.03, True, primary=(i == 0))
+    params = [NewParam(f"{n}.{air}", 1e-4, (1e-5, AIR_MAX), (1e-3, AIR_MAX), 0.03, True, primary=(i == 0))
               for i, n in enumerate(names)]
 
     def build(net):

@@ -1,0 +1,73 @@
+"""A base-fit finding is a reading of the base fit's parameter values; once a candidate is
+accepted those values may go back to the file's (they stood in for it), and the finding must be
+judged again on the final model by the same rules."""
+from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+
+from hydrocli.components.hydraulic.fluid import effective_bulk_modulus
+from hydrocli.diagnose import engine, findings
+from hydrocli.diagnose.candidates import Context, catalogue
+from hydrocli.diagnose.candidates.leakage import AIR_MAX
+from hydrocli.netlist.loader import load_netlist
+
+ROOT = Path(__file__).resolve().parents[2]
+VOLS = ("cylinder.V_A0", "cylinder.V_B0")
+
+
+def _judged(values, initial=(2.0e-4, 6.0e-4), se=1e-6):
+    return [{"name": n, "value": v, "initial": v0, "stderr": se} for n, v, v0 in zip(VOLS, values, initial)]
+
+
+def _final(values, se=1e-6):
+    names = list(VOLS) + ["u_delay.T"]
+    p = np.array(list(values) + [0.02])
+    model = SimpleNamespace(param_names=names, param_index=names.index)
+    return SimpleNamespace(p=p, model=model, stderr={n: se for n in names})
+
+
+def _rule(su, stage, judged):
+    """The real rule (more oil than drawn in every chamber), needed on held-out data."""
+    return findings.fluid_compliance_excess(judged, [findings.Chambers("cylinder", VOLS)], lambda vals: (1.0, 0.1))
+
+
+AIR = {"effect": "entrained_air", "component": "cylinder", "source": "base_fit", "validation_gain": 1.0}
+STOPS = {"effect": "end_stop", "component": "cylinder", "source": "base_fit"}   # a runaway finding: not re-judged
+DELAY = {"effect": "input_delay", "component": "valve", "source": "candidate"}
+
+
+def test_a_base_fit_finding_is_withdrawn_when_the_final_model_no_longer_needs_it(monkeypatch):
+    monkeypatch.setattr(engine, "_base_fit_findings", _rule)
+    b = SimpleNamespace(judged=_judged((8.6e-4, 1.3e-3)))
+    assert _rule(None, None, b.judged)                       # the base fit: both chambers ×4.3, ×2.1 → air
+    # the delay accepted, the polished model puts the volumes back near the drawing (×1.15, ×0.9)
+    kept = engine._still_found(None, b, _final((2.3e-4, 5.4e-4)), [AIR, STOPS, DELAY])
+    assert kept == [STOPS, DELAY]
+    # still ×2 in both chambers, well determined: the finding stands beside the delay
+    kept = engine._still_found(None, b, _final((4.0e-4, 1.2e-3)), [AIR, STOPS, DELAY])
+    assert kept == [AIR, STOPS, DELAY]
+    # ×2, but the final fit no longer determines them (3 σ): withdrawn
+    kept = engine._still_found(None, b, _final((4.0e-4, 1.2e-3), se=2e-4), [AIR, DELAY])
+    assert kept == [DELAY]
+
+
+def test_the_air_law_covers_a_third_of_the_volume_as_free_air_at_one_bar():
+    """The library's law with r = α₀/(1 − α₀) is the mixture law written with the air's volume
+    FRACTION α₀ at 1 bar (independent closed form: 1/β_e = (1 − α)/β + α/(n p),
+    α = g/(g + 1 − α₀), g = α₀ (p₀/p)^(1/n)); the air candidate's bound reaches α₀ = 0.38."""
+    beta, n = 1.6e9, 1.4
+    for a0 in (0.01, 0.15, 0.38):
+        for p in (5e5, 5e6, 1.5e7):
+            g = a0 * (1e5 / p) ** (1 / n)
+            alpha = g / (g + 1 - a0)
+            ref = 1.0 / ((1 - alpha) / beta + alpha / (n * p))
+            e = effective_bulk_modulus(beta, p, a0 / (1 - a0), n)
+            assert np.isclose(getattr(e, "value", e), ref, rtol=1e-12)
+    net = load_netlist(ROOT / "machines/eha_testbench.yaml")
+    cands, _ = catalogue(Context(net, set()))
+    air = next(c for c in cands if c.effect == "entrained_air")
+    amount = next(p for p in air.params if p.primary)
+    assert amount.bounds[1] == AIR_MAX >= 0.38 / 0.62 and amount.plausible[1] >= 0.38 / 0.62
