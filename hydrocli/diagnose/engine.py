@@ -35,7 +35,7 @@ from ..netlist.model import Netlist
 from ..progress import status
 from . import (accept, augment, baseline, design, findings, locate, nuisance, residuals, restrain, runaway, stats,
                travel, workers)
-from .candidates import BANDS, COMPLIANCES, LAGS, SWITCHING, Candidate, Context, catalogue
+from .candidates import BANDS, COMPLIANCES, LAGS, REDUCES_TO, SWITCHING, Candidate, Context, catalogue
 from .equations import equation_errors, measured_states
 from .measurement import sensed_states, with_pressure_sensors
 
@@ -331,59 +331,81 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         return out
     common = {"file": su.machine, "names": stage.model.param_names, "values": stage.p, "train": train,
               "outputs": outputs}
+    drawing = {"drawing": _drawing(su)}
     n_eff = residuals.effective_n(stage.model, train, stage.Y_train, outputs)
     scores = _screen(stage, cands, texts, common, n_eff, pool, round_, progress)
     order = sorted(cands, key=lambda c: -scores[c.key]["dr2"])
     n_fit = st.top if round_ == 0 else max(1, st.top - 1)   # later rounds: residual already small
-    best = shortlist([c for c in order if scores[c.key]["error"] is None], scores, n_fit)
-    _log(progress, "  best: " + ", ".join(f"{c.key} ({100 * scores[c.key]['dr2']:.1f} %)" for c in best))
-    grad = {c.key: st.switching_gradient if c.effect in SWITCHING else "auto" for c in best}
-    # one control per gradient in use: each candidate is compared with the current model
-    # re-identified with the same budget AND the same Jacobian (a fair comparison)
-    controls = [dict(common, key=f"{CONTROL} ({g})", text=augment.text_of(stage.net), validate=validate,
-                     max_evals=st.candidate_evals, n_eff=n_eff, gradient=g) for g in sorted(set(grad.values()))]
-    fits = workers.run_all(workers.fit_one, controls + [dict(common, key=c.key, text=texts[c.key],
-                                                             validate=validate, starts=scores[c.key].get("starts"),
-                                                             max_evals=st.candidate_evals, n_eff=n_eff,
-                                                             gradient=grad[c.key], stops=_stops(c))
-                                                        for c in best], pool,
-                           progress=progress, what=f"round {round_ + 1}: candidate fits done")
-    fits = {f["key"]: f for f in fits}
-    base_ref = {}
-    for g in set(grad.values()):
-        ctl = fits.pop(f"{CONTROL} ({g})")
-        ssr, val = stage.cost, residuals.total(stage.esr_validation)
-        if floor is not None:
-            # BIC against the better of the two bases; held-out gain against the restrained base,
-            # with the free base's validation ESR as a ceiling (_judge): a plausible explanation
-            # that predicts as well as the implausible fit is preferred to it
-            ssr = min(ssr, floor.cost)
-        if ctl.get("error") is None and ctl["cost"] < ssr:
-            ssr, val = ctl["cost"], min(val, residuals.total(ctl["esr_validation"]))
-        base_ref[g] = (ssr, val)
-    v_base = min([v for _, v in base_ref.values()] + [residuals.total(stage.esr_validation)])
     ceiling = None if floor is None else residuals.total(floor.esr_validation)
     before = floor if floor is not None and residuals.total(floor.esr_validation) < residuals.total(
         stage.esr_validation) else stage
-    passing = []
+    remaining = [c for c in order if scores[c.key]["error"] is None]
+    fits, base_ref, grad, passing = {}, {}, {}, []
+    for wave in range(1 + EXTRA_WAVES):
+        best = shortlist(remaining, scores, n_fit)
+        if not best:
+            break
+        _log(progress, ("  best: " if wave == 0 else "  next: ")
+             + ", ".join(f"{c.key} ({100 * scores[c.key]['dr2']:.1f} %)" for c in best))
+        grad.update({c.key: st.switching_gradient if c.effect in SWITCHING else "auto" for c in best})
+        # one control per gradient in use: each candidate is compared with the current model
+        # re-identified with the same budget AND the same Jacobian (a fair comparison)
+        controls = [dict(common, **drawing, key=f"{CONTROL} ({g})", text=augment.text_of(stage.net),
+                         validate=validate, max_evals=st.candidate_evals, n_eff=n_eff, gradient=g)
+                    for g in sorted({grad[c.key] for c in best} - set(base_ref))]
+        done_ = workers.run_all(workers.fit_one, controls + [dict(common, **drawing, key=c.key, text=texts[c.key],
+                                                                  validate=validate, starts=scores[c.key].get("starts"),
+                                                                  max_evals=st.candidate_evals, n_eff=n_eff,
+                                                                  gradient=grad[c.key], stops=_stops(c))
+                                                             for c in best], pool,
+                                progress=progress, what=f"round {round_ + 1}: candidate fits done")
+        done_ = {f["key"]: f for f in done_}
+        for g in {grad[c.key] for c in best} - set(base_ref):
+            ctl = done_.pop(f"{CONTROL} ({g})")
+            ssr, val = stage.cost, residuals.total(stage.esr_validation)
+            if floor is not None:
+                # BIC against the better of the two bases; held-out gain against the restrained base,
+                # with the free base's validation ESR as a ceiling (_judge): a plausible explanation
+                # that predicts as well as the implausible fit is preferred to it
+                ssr = min(ssr, floor.cost)
+            if ctl.get("error") is None and ctl["cost"] < ssr:
+                ssr, val = ctl["cost"], min(val, residuals.total(ctl["esr_validation"]))
+            base_ref[g] = (ssr, val)
+        fits.update(done_)
+        v_base = min([v for _, v in base_ref.values()] + [residuals.total(stage.esr_validation)])
+        for c in best:
+            ssr0, val0 = base_ref[grad[c.key]]
+            row, passed = _judge(c, scores[c.key], fits.get(c.key), round_, ssr0, val0, n_eff, su.noise_total,
+                                 accepted, located, ceiling)
+            if passed:
+                passing.append((row["delta_bic"], c, fits[c.key]))
+        # the screening is a linearisation at one probe: when none of its picks passes and the
+        # held-out error is still far above the noise (the verdict would be an unexplained
+        # mismatch), the next effects in its order are fitted before saying so (real Festo rig,
+        # a runaway piston at pA ESR 95 %: the missing end stop screened fifth, 10 %, behind
+        # four effects a fit could not use; with a residual that slow, n_eff 24, no score test
+        # is significant, so the order alone decides)
+        fitted = {c.effect for c in order if c.key in fits}
+        remaining = [c for c in remaining if c.effect not in fitted]
+        if passing or findings.unexplained(stage.esr_validation, su.noise, located) is None:
+            break
+    v_base = min([v for _, v in base_ref.values()] + [residuals.total(stage.esr_validation)])
     for c in order:
         ssr0, val0 = base_ref.get(grad.get(c.key), (stage.cost, v_base))
-        row, passed = _judge(c, scores[c.key], fits.get(c.key), round_, ssr0, val0, n_eff, su.noise_total,
-                             accepted, located, ceiling)
+        row, _ = _judge(c, scores[c.key], fits.get(c.key), round_, ssr0, val0, n_eff, su.noise_total,
+                        accepted, located, ceiling)
         out.rows.append(row)
-        if passed:
-            passing.append((row["delta_bic"], c, fits[c.key]))
     out.rows.sort(key=lambda d: (not d.get("passed", False), not d.get("fitted", False), -d["score"]))
     if not passing:
         _log(progress, "  no candidate passes BIC + validation + plausibility")
         return out
-    passing = _rank_passing(passing)
+    band = accept.need(v_base, su.noise_total)
+    passing = _simplest(_rank_passing(passing), band)
     dbic_best, c, f = passing[0]
     close = ALTERNATIVE * min(p[0] for p in passing)   # ΔBIC that the training data barely tell from the best
     alternatives = [{"effect": c2.effect, "component": c2.component, "delta_bic": d2,
                      "esr_validation_after": f2["esr_validation"]}
                     for d2, c2, f2 in passing[1:] if c2.effect != c.effect and d2 <= close]
-    band = accept.need(v_base, su.noise_total)
     rival = next(((d2, c2, f2) for d2, c2, f2 in passing[1:] if c2.effect != c.effect
                   and d2 <= close and not _separated(f, f2, band)), None)
     if rival is not None:
@@ -401,6 +423,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     return out
 
 
+EXTRA_WAVES = 2     # further shortlists fitted when none passes and the mismatch stays unexplained (round_step)
 RIVAL_P = 1e-3      # a balance whose best candidate's score test is significant at this level …
 RIVAL_SHARE = 1 / 3  # … and explains at least a third of what the top candidate explains is fitted too
 # compliances (declared by their families, candidates.COMPLIANCES): each adds a mode whose
@@ -453,6 +476,13 @@ def shortlist(order: list[Candidate], scores: dict, n_fit: int) -> list[Candidat
                     picked.append(c)
                     have.add(c.effect)
     return picked
+
+
+def _drawing(su: Setup) -> dict[str, float]:
+    """The machine as drawn: the file's values of the base model's free parameters (measurement
+    and nuisance parameters at their typical values), where candidate fits also start."""
+    free = set(su.model.free_params)
+    return {n: float(v) for n, v in zip(su.model.param_names, su.model.p0) if n in free}
 
 
 def _screen(stage: Stage, cands: list[Candidate], texts: dict, common: dict, n_eff: float, pool, round_: int,
@@ -508,6 +538,25 @@ def _rank_passing(passing: list) -> list:
     rest = [p for p in passing if p[0] > ALTERNATIVE * best]
     close.sort(key=lambda x: residuals.total(x[2]["esr_validation"]))
     return close + rest
+
+
+def _simplest(ranked: list, band: float) -> list:
+    """The ranked passing candidates with the head replaced by its special case when the data
+    do not tell them apart (``REDUCES_TO``, declared by the families): a seal friction
+    μ·A·(p_A + p_B) on a symmetric actuator fed at a constant supply is a constant force, a
+    Coulomb friction with one dependence more that these data do not exercise (the project's
+    concealed Coulomb case: ΔBIC −1106 for the seal law against −1102 for Coulomb, validation
+    ESR 1.408 against 1.416 %, noise band 0.17 %). Naming the simpler law claims only what was
+    recorded; the richer one stays the rival, with the test that would separate them."""
+    if not ranked:
+        return ranked
+    head = ranked[0]
+    close = ALTERNATIVE * min(p[0] for p in ranked)
+    for i, other in enumerate(ranked[1:], 1):
+        if ((head[1].effect, other[1].effect) in REDUCES_TO and other[0] <= close
+                and not _separated(head[2], other[2], band)):
+            return [other] + ranked[:i] + ranked[i + 1:]
+    return ranked
 
 
 def _separated(f: dict, f2: dict, band: float) -> bool:

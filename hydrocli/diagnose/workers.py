@@ -135,16 +135,20 @@ def fit_one(job: dict) -> dict:
     """Re-identify base + new parameters, then score train and validation. The new
     parameters start from the best of: effect off, the probe value, and the Gauss–Newton
     step of the screening regression (so an effect far from zero is reached in few
-    iterations) — from two of them when "off" costs least (:func:`_fit_starts`). Gradient
-    "both": each start is fitted on exact sensitivities AND on finite differences, the lower
-    final cost wins (see ``engine.Settings.switching_gradient``)."""
+    iterations) — from two of them when "off" costs least (:func:`_fit_starts`); each with
+    the base parameters where the current fit has them and where the machine file
+    (``job["drawing"]``) has them. Gradient "both": each start is fitted on exact
+    sensitivities AND on finite differences, the lower final cost wins (see
+    ``engine.Settings.switching_gradient``)."""
     try:
         model = model_from_text(job["text"], job["file"])
         p = warm_vector(model, job["names"], job["values"])
+        drawn = model.param_vector({n: v for n, v in (job.get("drawing") or {}).items()
+                                    if n in set(model.param_names)}, base=p)
         obj = residuals.objective(model, job["train"])
         res = None
         g = job.get("gradient", "auto")
-        for q in _fit_starts(obj, p, model, job.get("starts") or [{}]):
+        for q in _fit_starts(obj, p, model, job.get("starts") or [{}], drawn):
             for grad in (("auto", "finite-differences") if g == "both" else (g,)):
                 trial = baseline.identify(model, job["train"], p_start=q, iterations=job["max_evals"], gradient=grad)
                 if res is None or trial.cost < res.cost:
@@ -214,21 +218,31 @@ def parameter_rows(params, estimates: dict[str, float], stderr: dict[str, float]
             for p in params if p.name in estimates]
 
 
-def _fit_starts(obj, p: np.ndarray, model, starts: list[dict]) -> list[np.ndarray]:
+def _fit_starts(obj, p: np.ndarray, model, starts: list[dict], drawn: np.ndarray | None = None) -> list[np.ndarray]:
     """Where a candidate's fit starts: the start of lowest cost, and — when that is the effect
     switched off (``starts[0]``, as :func:`screen_one` lists them) — also the best start with
     the effect present. Base parameters re-identified without the effect may already mimic
     part of it (a Stribeck term widened into a Coulomb one): adding the effect on top of them
     costs more at first, and a fit from "off" then stays in the base's local minimum. Both
-    fits run; the lower final cost wins."""
-    vecs = []
-    for start in starts:
-        q = model.param_vector(start, base=p)
-        vecs.append((obj.cost(q), q))
+    fits run; the lower final cost wins.
+
+    Every start is offered twice: on the current fit's base parameters ``p`` and on the
+    machine as drawn (``drawn``: the file's values of the base parameters). A base fit that
+    lacks a strong effect can wander far from the drawing to imitate it (dev rotary with much
+    air and a low-supply test: inertia ×0.23, viscous friction ×8, train ESR of speed 20 %);
+    from there the effect's own fit stays in that basin, while from the drawing — which
+    differs from the machine by its tolerances — the effect is where the data put it."""
+    bases = [p] + ([drawn] if drawn is not None and not np.array_equal(drawn, p) else [])
+    vecs = []                                # (cost, vector, effect off)
+    for b in bases:
+        for k, start in enumerate(starts):
+            q = model.param_vector(start, base=b)
+            vecs.append((obj.cost(q), q, k == 0))
     order = sorted(range(len(vecs)), key=lambda i: vecs[i][0])
-    out = [vecs[order[0]][1]]
-    if order[0] == 0 and len(vecs) > 1:
-        on = [i for i in order[1:] if not np.array_equal(vecs[i][1], vecs[0][1])]
+    best = vecs[order[0]]
+    out = [best[1]]
+    if best[2] and len(starts) > 1:
+        on = [i for i in order[1:] if not vecs[i][2] and not np.array_equal(vecs[i][1], best[1])]
         if on:
             out.append(vecs[on[0]][1])
     return out

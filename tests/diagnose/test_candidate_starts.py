@@ -42,3 +42,29 @@ def test_companion_shapes_cross_the_grid_of_amounts():
     assert {s["d"] for s in grid} == {0.01, 0.006, 0.019}
     assert len({s["l"] for s in grid}) == 4 and all(0.2 < s["l"] < 20.0 for s in grid)
     assert len(_log_grid([l])) == 4
+
+
+def test_a_candidate_fit_also_starts_from_the_machine_as_drawn():
+    """Starts are offered on the current fit's base parameters AND on the file's: a base fit
+    that lacks a strong effect may have wandered far from the drawing (an inertia ×0.23) to
+    imitate it; with the effect present the drawing is where the data are."""
+    import numpy as np
+    from types import SimpleNamespace
+    from hydrocli.diagnose.workers import _fit_starts
+
+    names = ["J", "air"]
+    model = SimpleNamespace(param_index=names.index,
+                            param_vector=lambda over, base: np.array([over.get(n, base[i]) for i, n in enumerate(names)]))
+    truth = np.array([0.8, 0.2])
+    obj = SimpleNamespace(cost=lambda q: float(np.sum((q - truth) ** 2) + (1.0 if q[0] < 0.5 else 0.0)))
+    wandered, drawn = np.array([0.18, 0.0]), np.array([0.75, 0.0])
+    starts = [{"air": 0.0}, {"air": 0.03}, {"air": 0.25}]
+    out = _fit_starts(obj, wandered, model, starts, drawn)
+    assert np.allclose(out[0], [0.75, 0.25])            # from the drawing, with the effect present
+    # without the drawing only the wandered base is offered
+    assert all(q[0] == 0.18 for q in _fit_starts(obj, wandered, model, starts))
+    # effect off cheapest: the best start with the effect present is fitted too (as before)
+    near = np.array([0.8, 0.0])
+    obj_off = SimpleNamespace(cost=lambda q: float(q[1] ** 2 + (q[0] - 0.8) ** 2))
+    out = _fit_starts(obj_off, near, model, starts, drawn)
+    assert np.allclose(out[0], [0.8, 0.0]) and len(out) == 2 and out[1][1] > 0

@@ -327,6 +327,27 @@ def test_near_ties_on_training_bic_are_decided_by_held_out_data():
     assert [r[1].effect for r in ranked] == ["coulomb_friction", "pressure_dependent_friction", "valve_overlap"]
 
 
+def test_a_richer_law_the_data_do_not_separate_from_its_special_case_gives_way_to_it():
+    """Seal friction fitted a hair better than Coulomb friction (the concealed Coulomb case's
+    figures): not separated by the noise band, the simpler law is named; separated on one
+    training experiment, or a pair neither of which reduces to the other, the order stands."""
+    from hydrocli.diagnose.engine import _simplest
+    seal = (-1106.0, SimpleNamespace(effect="pressure_dependent_friction"),
+            {"esr_validation": {"P1": 0.700, "v": 0.708}, "esr_train_each": [0.90]})
+    coul = (-1102.0, SimpleNamespace(effect="coulomb_friction"),
+            {"esr_validation": {"P1": 0.705, "v": 0.711}, "esr_train_each": [0.91]})
+    far = (-300.0, SimpleNamespace(effect="valve_overlap"), {"esr_validation": {"P1": 0.6, "v": 0.6}})
+    assert [r[1].effect for r in _simplest([seal, coul, far], band=0.17)] == \
+        ["coulomb_friction", "pressure_dependent_friction", "valve_overlap"]
+    apart = (coul[0], coul[1], dict(coul[2], esr_train_each=[1.5]))
+    assert _simplest([seal, apart, far], band=0.17)[0] is seal
+    weak = (-500.0, coul[1], coul[2])          # ΔBIC well short of the winner's: the data prefer the seal law
+    assert _simplest([seal, weak], band=0.17)[0] is seal
+    play = (-1102.0, SimpleNamespace(effect="valve_hysteresis"), coul[2])
+    assert _simplest([seal, play], band=0.17)[0] is seal
+    assert _simplest([coul, seal], band=0.17)[0] is coul
+
+
 def test_primaries_are_judged_given_the_companions_that_shape_the_effect():
     """Two estimates that trade off (ρ = 0.995): the amount is determined once the shape is
     given, σ_a|b = σ_a·√(1 − ρ²) — the conditional covariance of a Gaussian, checked against

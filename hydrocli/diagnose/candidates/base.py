@@ -184,6 +184,10 @@ class Family:
                                                 # delay, a play, a slow reading): likewise
     bands: frozenset[str] = frozenset()         # dead bands of one element (a spool's overlap around
                                                 # centre, its play around the last reversal): likewise
+    reduces_to: tuple[tuple[str, str], ...] = ()  # (richer, simpler): the richer law becomes the
+                                                # simpler one where the data do not exercise what it
+                                                # adds; when the data do not tell them apart the
+                                                # simpler one is named (engine._simplest)
 
     def candidates(self, ctx: Context) -> list[Candidate]:  # pragma: no cover - abstract
         raise NotImplementedError
