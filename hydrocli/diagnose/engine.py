@@ -340,7 +340,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     before = floor if floor is not None and residuals.total(floor.esr_validation) < residuals.total(
         stage.esr_validation) else stage
     remaining = [c for c in order if scores[c.key]["error"] is None]
-    fits, base_ref, grad, passing = {}, {}, {}, []
+    fits, base_ref, grad, passing, judged = {}, {}, {}, [], {}
     for wave in range(1 + EXTRA_WAVES):
         best = shortlist(remaining, scores, n_fit)
         if not best:
@@ -353,15 +353,15 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         controls = [dict(common, **drawing, key=f"{CONTROL} ({g})", text=augment.text_of(stage.net),
                          validate=validate, max_evals=st.candidate_evals, n_eff=n_eff, gradient=g)
                     for g in sorted({grad[c.key] for c in best} - set(base_ref))]
-        done_ = workers.run_all(workers.fit_one, controls + [dict(common, **drawing, key=c.key, text=texts[c.key],
-                                                                  validate=validate, starts=scores[c.key].get("starts"),
-                                                                  max_evals=st.candidate_evals, n_eff=n_eff,
-                                                                  gradient=grad[c.key], stops=_stops(c))
-                                                             for c in best], pool,
-                                progress=progress, what=f"round {round_ + 1}: candidate fits done")
-        done_ = {f["key"]: f for f in done_}
+        wave_fits = workers.run_all(workers.fit_one, controls + [dict(common, **drawing, key=c.key, text=texts[c.key],
+                                                                      validate=validate, starts=scores[c.key].get("starts"),
+                                                                      max_evals=st.candidate_evals, n_eff=n_eff,
+                                                                      gradient=grad[c.key], stops=_stops(c))
+                                                                 for c in best], pool,
+                                    progress=progress, what=f"round {round_ + 1}: candidate fits done")
+        wave_fits = {f["key"]: f for f in wave_fits}
         for g in {grad[c.key] for c in best} - set(base_ref):
-            ctl = done_.pop(f"{CONTROL} ({g})")
+            ctl = wave_fits.pop(f"{CONTROL} ({g})")
             ssr, val = stage.cost, residuals.total(stage.esr_validation)
             if floor is not None:
                 # BIC against the better of the two bases; held-out gain against the restrained base,
@@ -371,12 +371,12 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
             if ctl.get("error") is None and ctl["cost"] < ssr:
                 ssr, val = ctl["cost"], min(val, residuals.total(ctl["esr_validation"]))
             base_ref[g] = (ssr, val)
-        fits.update(done_)
-        v_base = min([v for _, v in base_ref.values()] + [residuals.total(stage.esr_validation)])
+        fits.update(wave_fits)
         for c in best:
             ssr0, val0 = base_ref[grad[c.key]]
             row, passed = _judge(c, scores[c.key], fits.get(c.key), round_, ssr0, val0, n_eff, su.noise_total,
                                  accepted, located, ceiling)
+            judged[c.key] = row
             if passed:
                 passing.append((row["delta_bic"], c, fits[c.key]))
         # the screening is a linearisation at one probe: when none of its picks passes and the
@@ -390,11 +390,11 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         if passing or findings.unexplained(stage.esr_validation, su.noise, located) is None:
             break
     v_base = min([v for _, v in base_ref.values()] + [residuals.total(stage.esr_validation)])
-    for c in order:
-        ssr0, val0 = base_ref.get(grad.get(c.key), (stage.cost, v_base))
-        row, _ = _judge(c, scores[c.key], fits.get(c.key), round_, ssr0, val0, n_eff, su.noise_total,
-                        accepted, located, ceiling)
-        out.rows.append(row)
+    for c in order:   # the fitted ones were judged in their wave; the rest carry their screening
+        if c.key not in judged:
+            judged[c.key], _ = _judge(c, scores[c.key], None, round_, stage.cost, v_base, n_eff, su.noise_total,
+                                      accepted, located, ceiling)
+        out.rows.append(judged[c.key])
     out.rows.sort(key=lambda d: (not d.get("passed", False), not d.get("fitted", False), -d["score"]))
     if not passing:
         _log(progress, "  no candidate passes BIC + validation + plausibility")

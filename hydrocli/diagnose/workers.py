@@ -143,8 +143,8 @@ def fit_one(job: dict) -> dict:
     try:
         model = model_from_text(job["text"], job["file"])
         p = warm_vector(model, job["names"], job["values"])
-        drawn = model.param_vector({n: v for n, v in (job.get("drawing") or {}).items()
-                                    if n in set(model.param_names)}, base=p)
+        names = set(model.param_names)
+        drawn = model.param_vector({n: v for n, v in (job.get("drawing") or {}).items() if n in names}, base=p)
         obj = residuals.objective(model, job["train"])
         res = None
         g = job.get("gradient", "auto")
