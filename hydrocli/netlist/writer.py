@@ -30,10 +30,17 @@ DIGITS = 6
 # -- public API ----------------------------------------------------------------------------
 def set_parameters(net: Netlist, values: dict[str, float | list[float]]) -> str:
     """Write SI ``values`` ({"valve.Kv": 5.1e-7, …}) back into the file's text."""
+    return Y.dump_text(with_parameters(net, values))
+
+
+def with_parameters(net: Netlist, values: dict[str, float | list[float]]) -> CommentedMap:
+    """:func:`set_parameters`' edited document (a copy), not yet written as text: edits that
+    chain (the diagnosis's augmentations) reload it with ``loader.load_doc`` and skip a YAML
+    dump and parse per edit."""
     doc = _copy(net)
     for name, value in values.items():
         _Slot(net, doc, name).set_value(value)
-    return Y.dump_text(doc)
+    return doc
 
 
 def check_write_back(net: Netlist, names) -> None:
@@ -92,14 +99,25 @@ def _rebase_includes(doc, src_dir, dst_dir) -> None:
 
 def set_free(net: Netlist, name: str, free: bool, bounds: tuple[float, float] | None = None) -> str:
     """Mark a parameter free (or fixed) for identification; ``bounds`` are SI."""
+    return Y.dump_text(with_free(net, name, free, bounds))
+
+
+def with_free(net: Netlist, name: str, free: bool, bounds: tuple[float, float] | None = None) -> CommentedMap:
+    """:func:`set_free`'s edited document (a copy)."""
     doc = _copy(net)
     _Slot(net, doc, name).set_free(free, bounds)
-    return Y.dump_text(doc)
+    return doc
 
 
 def add_component(net: Netlist, name: str, type: str, ports: dict[str, str],
                   params: dict | None = None) -> str:
     """Add a component; ``params`` values are SI numbers, unit strings or {value, free, bounds} maps."""
+    return Y.dump_text(with_component(net, name, type, ports, params))
+
+
+def with_component(net: Netlist, name: str, type: str, ports: dict[str, str],
+                   params: dict | None = None) -> CommentedMap:
+    """:func:`add_component`'s edited document (a copy)."""
     cls = registry.get(type)
     if cls is None:
         raise NetlistError(_problem(f"unknown component type '{type}'{suggest(type, registry.all_types())}",
@@ -123,11 +141,16 @@ def add_component(net: Netlist, name: str, type: str, ports: dict[str, str],
         cmap[pname] = (_flow_map(v) if isinstance(v, dict) else _number(v) if _is_num(v)
                        else DoubleQuotedScalarString(v) if isinstance(v, str) else _flow_seq(v))
     comps[name] = cmap
-    return Y.dump_text(doc)
+    return doc
 
 
 def set_port(net: Netlist, comp: str, port: str, node: str) -> str:
     """Connect ``comp.port`` to ``node`` (the component must be written in the main file)."""
+    return Y.dump_text(with_port(net, comp, port, node))
+
+
+def with_port(net: Netlist, comp: str, port: str, node: str) -> CommentedMap:
+    """:func:`set_port`'s edited document (a copy)."""
     doc = _copy(net)
     cmap = _top_component(net, doc, comp)
     cls = registry.get(str(cmap.get("type")))
@@ -137,7 +160,7 @@ def set_port(net: Netlist, comp: str, port: str, node: str) -> str:
     if not Y.is_map(cmap.get("ports")):
         cmap["ports"] = _flow_map({})
     cmap["ports"][port] = node
-    return Y.dump_text(doc)
+    return doc
 
 
 def remove_component(net: Netlist, name: str) -> str:

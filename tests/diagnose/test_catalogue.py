@@ -141,3 +141,26 @@ def test_a_small_overlap_or_play_that_the_data_resolve_is_plausible_a_parked_one
     b = next(p.name for p in play.params if p.primary)
     assert verdict(play, {b: 0.0021})["passed"] and verdict(play, {b: 2 * MIN_PLAY})["passed"]
     assert not verdict(play, {b: 0.5 * MIN_PLAY})["passed"]
+
+
+@pytest.mark.parametrize("machine", ["eha_testbench.yaml", "luffing_cylinder.yaml", "rotary_drive.yaml"])
+def test_augmented_document_is_the_machine_its_text_loads(machine):
+    """Augmentations chain on the YAML document without writing and re-parsing it per edit
+    (augment.reload_doc); the text written once at the end must load as the same machine
+    (same normalised netlist hash, same free parameters and bounds) for every candidate."""
+    from hydrocli.diagnose import augment
+    from hydrocli.netlist.normal import netlist_sha256
+    net, _ = with_pressure_sensors(load_netlist(MACHINE.parent / machine))
+    model = build_model(net)
+    ctx = Context(net, set(model.free_params), {}, {o: "pressure" for o in model.output_names})
+    cands, _ = catalogue(ctx)
+    assert len(cands) >= 8
+    for c in cands:
+        aug = c.build(net)
+        again = load_netlist_text(augment.text_of(aug), aug.file)
+        assert netlist_sha256(again) == netlist_sha256(aug), c.key
+        free = lambda n: {(k, p): (v.free, v.bounds) for k, d in n.components.items()   # noqa: E731
+                          for p, v in d.params.items() if v.free}
+        assert free(again) == free(aug), c.key
+        new = {tuple(p.name.rsplit(".", 1)) for p in c.params}
+        assert new <= set(free(aug)), (c.key, new - set(free(aug)))     # the edits took effect
