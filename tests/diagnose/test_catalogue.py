@@ -71,6 +71,25 @@ def test_supply_drop_is_sized_from_the_valve_and_starts_at_the_supply_pressure(e
     assert x0[model.state_index("supply_line.p")] == pytest.approx(100e5)
 
 
+def test_supply_restriction_may_be_a_laminar_line(eha):
+    """The supply restriction's law is a companion: the orifice's laminar transition Δp_lam
+    is free, started turbulent (the orifice's own 0.5 bar) and crossed with a laminar shape,
+    under which q = Kv·Δp/(Δp² + Δp_lam²)^¼ is linear, R = √Δp_lam/Kv (seed 002 eqs. 8–9),
+    within 3 % over drops up to 10 bar; the bounds reach a line laminar over a whole
+    supply's drop. (Dev rotary laminar supply line: named only with it, P1 1.78 → 0.73 %.)"""
+    net, ctx = eha
+    c = next(c for c in catalogue(ctx)[0] if c.effect == "supply_pressure_drop")
+    lam = next(p for p in c.params if p.name.endswith(".dp_lam"))
+    assert not lam.primary and lam.start <= 1e5 and lam.bounds[1] >= 2e7 and lam.shapes
+    shape = lam.shapes[0]
+    kv = c.params[0].probe
+    dp = np.linspace(1e3, 10e5, 50)
+    q = kv * dp / (dp ** 2 + shape ** 2) ** 0.25
+    assert np.allclose(q, dp / (np.sqrt(shape) / kv), rtol=0.03)
+    net2 = c.build(net)
+    assert net2.components[lam.name.split(".")[0]].params["dp_lam"].free
+
+
 def test_line_candidate_is_a_hose_whose_volume_grows_with_its_length(eha):
     """The line candidate inserts a π-lumped hose per work port: length primary (inertance,
     loss and volume together), its effective bulk modulus (oil and wall) and its bore

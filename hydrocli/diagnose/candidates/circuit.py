@@ -11,6 +11,9 @@ from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 BORE = 0.01              # m: a hose's bore to start from (3/8 in)
 BORES = (0.004, 0.032)   # m: 5/32 in … 1 1/4 in, SAE 100R hoses of mobile and industrial machines
+DP_LAM = 5.0e4                  # Pa: the orifice's own laminar transition (a turbulent restriction)
+DP_LAM_BOUNDS = (1.0e4, 5.0e7)  # Pa: from a sharp orifice to a line laminar over every supply drop
+LAMINAR_SHAPE = 3.0e6           # Pa: a start with the restriction laminar over typical drops
 SHAPES = (0.006, 0.019)  # m: a thin (1/4 in) and a wide (3/4 in) hose: the length grid is tried with each,
                          # since at one length a bore sets volume, inertance and loss in opposite ways
 
@@ -62,7 +65,7 @@ class CircuitFamily(Family):
 
     @staticmethod
     def _supply(ctx: Context, valve: str, node: str | None):
-        """Supply line restriction (clogged filter, thin line: turbulent orifice) with the oil
+        """Supply line restriction (clogged filter: turbulent; long thin line: laminar) with the oil
         and accumulator capacity behind it at the valve's P port. Sized from the valve's own
         flow coefficient: the drop is (Kv_valve/Kv_supply)² of the valve's, so the orifice
         starts at 30× Kv_valve (drop 0.1 %, no effect) and is probed at 1.5× (drop ~45 %)."""
@@ -79,7 +82,13 @@ class CircuitFamily(Family):
         new = A.unique_name(ctx.net, f"{node}_source")
         params = [NewParam(f"{orf}.Kv", 30 * kv, (0.03 * kv, 100 * kv), (0.1 * kv, 10 * kv), 1.5 * kv, True),
                   # line oil + any accumulator: an equivalent oil volume (log scale), a companion
-                  NewParam(f"{vol}.V", 1e-3, (1e-5, 2e-2), (1e-5, 2e-2), 2e-3, True, primary=False)]
+                  NewParam(f"{vol}.V", 1e-3, (1e-5, 2e-2), (1e-5, 2e-2), 2e-3, True, primary=False),
+                  # the restriction's law, a companion: q = Kv·Δp/(Δp² + Δp_lam²)^¼ is a filter's
+                  # or orifice's turbulent √Δp above Δp_lam and a long thin line's laminar
+                  # Δp·Kv/√Δp_lam below it (seed 002 eqs. 8–9: R = √Δp_lam/Kv); the fit's starts
+                  # are crossed with a laminar one (Δp_lam 30 bar: linear over a supply's drops)
+                  NewParam(f"{orf}.dp_lam", DP_LAM, DP_LAM_BOUNDS, DP_LAM_BOUNDS, DP_LAM, True, primary=False,
+                           shapes=(LAMINAR_SHAPE,))]
         p_start = _source_pressure(ctx, srcs[0])
 
         def build(net):
@@ -89,7 +98,8 @@ class CircuitFamily(Family):
             net = A.free_new(net, params)
             return A.set_initial(net, {f"{node}.p": p_start}) if p_start else net
         return Candidate("supply_pressure_drop", src[0], params, build, "continuity",
-                         f"pressure drop in the supply line of '{valve}' (turbulent restriction + line/accumulator volume)")
+                         f"pressure drop in the supply line of '{valve}' (a restriction, turbulent or laminar, "
+                         "+ line/accumulator volume)")
 
 
 def _valve_kv(ctx: Context, valve: str) -> float:
