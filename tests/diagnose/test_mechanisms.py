@@ -397,6 +397,26 @@ def test_actuator_bulk_modulus_below_oil_is_restrained_and_hoses_are_not(tmp_pat
     assert "cylinder.beta" in m.free_params
 
 
+def test_a_restrained_base_that_cannot_be_simulated_falls_back_to_the_free_base(monkeypatch):
+    """When no simulation of the restrained base succeeds (dev lift end stop: β raised to
+    oil's against a stop the file lacks), the diagnosis goes on from the free base instead of
+    failing the whole case."""
+    from hydrocli.diagnose import engine
+    from hydrocli.errors import IdentifyError, Problem
+    net = load_netlist(ROOT / "machines" / "eha_testbench.yaml")
+    model = build_model(net)
+    base = SimpleNamespace(net=net, model=model, p=np.array(model.param_vector({})))
+
+    def failing(*a, **k):
+        raise IdentifyError(Problem("every trial simulation failed (3)"))
+    monkeypatch.setattr(engine.baseline, "identify", failing)
+    said = []
+    su = SimpleNamespace(train=[], validate=[], outputs=[])
+    lim = {"cylinder.beta": (1.0e9, 2.5e9)}
+    assert engine._restrained(su, base, lim, engine.Settings(), said.append) is None
+    assert any("cannot be simulated" in m for m in said)
+
+
 def test_a_value_pushed_to_a_bound_far_from_the_files_is_restrained_near_the_file():
     """A Stribeck velocity the base fit widened ×15 to its upper bound (imitating a Coulomb
     force) is restrained to within ×3 of the file's value; one at a bound but near the file's
