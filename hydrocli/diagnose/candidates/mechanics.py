@@ -118,6 +118,7 @@ class MechanicsFamily(Family):
         if body is None or body != "ground":
             return Skipped("structural_flexibility", f"the body of '{act.name}' is not fixed to ground")
         frame = A.unique_name(ctx.net, f"{act.name}_frame")
+        rod = act.node("motion")
         fm, sp, dm = (A.unique_name(ctx.net, f"{act.name}_{s}") for s in ("frame_mass", "mount", "mount_damper"))
         ltype, lrole = ctx.element(R.LOAD, dom)
         stype, srole = ctx.element(R.SPRING, dom)
@@ -139,9 +140,17 @@ class MechanicsFamily(Family):
                   NewParam(f"{dm}.{drole.param('damping')}", c0, (1e-3 * c0, 1e3 * c0), (1e-3 * c0, 1e3 * c0),
                            c0, True, primary=False)]
 
+        # the actuator's own friction (seals, vanes) acts between the moving part and the BODY:
+        # on a mount it is relative motion that rubs, and its reaction loads the frame, not the
+        # ground (an element drawn from the rod to ground stood for "to the body")
+        rubbing = [(f.name, f.role.port(slot)) for f in ctx.parts_on(rod, R.FRICTION)
+                   for slot in ("a", "b") if f.node(slot) == body and f.role.port(slot)]
+
         def build(net):
             body_port = act.role.port("reference")
             net = A.connect(net, act.name, body_port, frame)
+            for comp, port in rubbing:
+                net = A.connect(net, comp, port, frame)
             net = A.add(net, fm, ltype, {lrole.port("node"): frame}, {lrole.param("inertia"): m_f})
             net = A.add(net, sp, stype, {srole.port("a"): frame, srole.port("b"): "ground"})
             net = A.add(net, dm, dtype, {drole.port("a"): frame, drole.port("b"): "ground"},
@@ -159,7 +168,6 @@ class MechanicsFamily(Family):
             net = A.set_initial(net, {**{f"{rod}.{q}": {"output": outs[0]} for q, outs in reads.items() if outs},
                                       _force_state(sp, stype): {"balance": f"{frame}.{dom.across}"}})
             return A.free_new(net, params)
-        rod = act.node("motion")
         return Candidate("structural_flexibility", act.name, params,
                          build, "force", f"compliant mounting of the body of '{act.name}' (motion measured by "
                                          "the actuator's own transducer, relative to the body)")
