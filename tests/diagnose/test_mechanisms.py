@@ -705,3 +705,22 @@ def test_every_actuator_names_its_chamber_volumes():
     for t in ("cylinder", "cylinder_double_rod", "vane_actuator", "hydraulic_motor"):
         role = registry.get(t).role(R.ACTUATOR)
         assert len(role.params_of("dead_volumes")) == 2, t
+
+
+def test_on_a_mount_the_actuators_friction_rubs_against_the_body():
+    """Seal friction acts between the rod and the cylinder BODY: on the mount candidate the
+    friction element drawn from the rod to ground is re-connected to the frame, so relative
+    motion rubs and the reaction loads the mount (dev rotary linear mount, seed 12, 3.7 %:
+    named load_compliance with the friction left on ground, structural_flexibility with it on
+    the frame, validation P1 0.30 → 0.087 %, noise 0.09). The load's own elements stay."""
+    net = load_netlist(ROOT / "machines" / "luffing_cylinder.yaml")
+    assert net.components["friction"].ports["b"] == "ground"
+    ctx = Context(net, set(), {"rod": (0.1, 0.4)}, {"x": "position", "P1": "pressure"}, {"u": 0.0})
+    mount = next(c for c in catalogue(ctx)[0] if c.effect == "structural_flexibility")
+    out = mount.build(net)
+    frame = out.components["cylinder"].ports["body"]
+    assert frame != "ground"
+    assert out.components["friction"].ports == {"a": "rod", "b": frame}
+    assert out.components["load"].ports == net.components["load"].ports
+    link = next(c for c in catalogue(ctx)[0] if c.effect == "load_compliance")
+    assert link.build(net).components["friction"].ports["b"] == "ground"     # a rod–load link: seals on the piston
