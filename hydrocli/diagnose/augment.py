@@ -12,7 +12,6 @@ edits chain: ``net = free(net, "valve.overlap_PA", 0.0, (-0.02, 0.1))``.
 """
 from __future__ import annotations
 
-import copy
 import re
 
 from ..components import registry
@@ -29,10 +28,6 @@ def reload(net: Netlist, text: str) -> Netlist:
 def reload_doc(net: Netlist, doc) -> Netlist:
     """The machine of an edited copy of ``net``'s document, checked like a loaded file."""
     return load_doc(doc, net.file)
-
-
-def _doc_copy(net: Netlist):
-    return copy.deepcopy(net.doc)
 
 
 def param_slot(net: Netlist, name: str) -> str:
@@ -78,7 +73,7 @@ def set_initial(net: Netlist, values: dict) -> Netlist:
     """The machine with these ``initial:`` entries set (SI numbers or values with units)."""
     if not values:
         return net
-    doc = _doc_copy(net)
+    doc = writer.copy_doc(net)
     if doc.get("initial") is None:
         doc["initial"] = {}
     for k, v in values.items():
@@ -96,7 +91,7 @@ def add(net: Netlist, name: str, type_: str, ports: dict[str, str], params: dict
 
 def set_type(net: Netlist, comp: str, type_: str) -> Netlist:
     """Replace a component's type by a compatible one (same ports and parameters, more of them)."""
-    doc = _doc_copy(net)
+    doc = writer.copy_doc(net)
     doc["components"][comp]["type"] = type_
     return reload_doc(net, doc)
 
@@ -117,7 +112,7 @@ def unique_name(net: Netlist, base: str) -> str:
 def rewrite_outputs(net: Netlist, mapping: dict[str, str], only: set[str] | None = None) -> Netlist:
     """Replace dotted symbols in output expressions (``chamber_1.p`` → ``s1.p``), whole
     names only; ``only`` limits the rewrite to some outputs."""
-    doc = _doc_copy(net)
+    doc = writer.copy_doc(net)
     outs = doc.get("outputs") or {}
     for key in list(outs):
         if only is not None and str(key) not in only:

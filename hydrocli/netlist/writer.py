@@ -37,7 +37,7 @@ def with_parameters(net: Netlist, values: dict[str, float | list[float]]) -> Com
     """:func:`set_parameters`' edited document (a copy), not yet written as text: edits that
     chain (the diagnosis's augmentations) reload it with ``loader.load_doc`` and skip a YAML
     dump and parse per edit."""
-    doc = _copy(net)
+    doc = copy_doc(net)
     for name, value in values.items():
         _Slot(net, doc, name).set_value(value)
     return doc
@@ -46,7 +46,7 @@ def with_parameters(net: Netlist, values: dict[str, float | list[float]]) -> Com
 def check_write_back(net: Netlist, names) -> None:
     """Raise the located NetlistError that :func:`set_parameters` would raise for ``names``,
     without writing anything: identification calls this BEFORE a long fit."""
-    doc = _copy(net)
+    doc = copy_doc(net)
     for name in names:
         _Slot(net, doc, name)
 
@@ -64,7 +64,7 @@ def write_back(net: Netlist, values: dict, out) -> str:
     from pathlib import Path
 
     from ..fileio import newline_of, write_text_atomic
-    doc = _copy(net)
+    doc = copy_doc(net)
     for name, value in values.items():
         _Slot(net, doc, name).set_value(value)
     _rebase_includes(doc, Path(net.file).parent, Path(out).parent)
@@ -104,7 +104,7 @@ def set_free(net: Netlist, name: str, free: bool, bounds: tuple[float, float] | 
 
 def with_free(net: Netlist, name: str, free: bool, bounds: tuple[float, float] | None = None) -> CommentedMap:
     """:func:`set_free`'s edited document (a copy)."""
-    doc = _copy(net)
+    doc = copy_doc(net)
     _Slot(net, doc, name).set_free(free, bounds)
     return doc
 
@@ -130,7 +130,7 @@ def with_component(net: Netlist, name: str, type: str, ports: dict[str, str],
         if cls.param(pname) is None:
             raise NetlistError(_problem(f"{type} has no parameter '{pname}'", net,
                                         f"parameters: {', '.join(p.name for p in cls.parameters)}"))
-    doc = _copy(net)
+    doc = copy_doc(net)
     comps = _components(doc, net)
     if name in comps or name in net.components:
         raise NetlistError(_problem(f"component '{name}' already exists", net, "choose another name"))
@@ -151,7 +151,7 @@ def set_port(net: Netlist, comp: str, port: str, node: str) -> str:
 
 def with_port(net: Netlist, comp: str, port: str, node: str) -> CommentedMap:
     """:func:`set_port`'s edited document (a copy)."""
-    doc = _copy(net)
+    doc = copy_doc(net)
     cmap = _top_component(net, doc, comp)
     cls = registry.get(str(cmap.get("type")))
     if cls is not None and cls.port(port) is None:
@@ -165,7 +165,7 @@ def with_port(net: Netlist, comp: str, port: str, node: str) -> CommentedMap:
 
 def remove_component(net: Netlist, name: str) -> str:
     """Remove a component written in the main file (its nodes stay as written elsewhere)."""
-    doc = _copy(net)
+    doc = copy_doc(net)
     _top_component(net, doc, name)
     del doc["components"][name]
     return Y.dump_text(doc)
@@ -178,7 +178,8 @@ def diff_text(old: str, new: str, name: str = "machine.yaml") -> str:
 
 
 # -- helpers -------------------------------------------------------------------------------
-def _copy(net: Netlist) -> CommentedMap:
+def copy_doc(net: Netlist) -> CommentedMap:
+    """A deep copy of the machine's round-trip document, to edit (located error when it has none)."""
     if net.doc is None:
         raise NetlistError(_problem("this netlist has no source document to edit", net,
                                     "load it with load_netlist or load_netlist_text"))

@@ -4,6 +4,7 @@ its actuator chamber (a hose with inertance, laminar loss and its own compliant 
 and a volume between the pressure source and the valve; seed 004's supply droop)."""
 from __future__ import annotations
 
+from ...components import registry
 from ...components import roles as R
 from .. import augment as A
 from .base import Candidate, Context, Family, NewParam, Part, Skipped
@@ -11,7 +12,7 @@ from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 BORE = 0.01              # m: a hose's bore to start from (3/8 in)
 BORES = (0.004, 0.032)   # m: 5/32 in … 1 1/4 in, SAE 100R hoses of mobile and industrial machines
-DP_LAM = 5.0e4                  # Pa: the orifice's own laminar transition (a turbulent restriction)
+DP_LAM = registry.get("orifice").param("dp_lam").default   # Pa: the orifice's own transition (turbulent)
 DP_LAM_BOUNDS = (1.0e4, 5.0e7)  # Pa: from a sharp orifice to a line laminar over every supply drop
 LAMINAR_SHAPE = 3.0e6           # Pa: a start with the restriction laminar over typical drops
 SHAPES = (0.006, 0.019)  # m: a thin (1/4 in) and a wide (3/4 in) hose: the length grid is tried with each,

@@ -144,7 +144,7 @@ class MechanicsFamily(Family):
         # on a mount it is relative motion that rubs, and its reaction loads the frame, not the
         # ground (an element drawn from the rod to ground stood for "to the body")
         rubbing = [(f.name, f.role.port(slot)) for f in ctx.parts_on(rod, R.FRICTION)
-                   for slot in ("a", "b") if f.node(slot) == body and f.role.port(slot)]
+                   for slot in ("a", "b") if f.node(slot) == body]
 
         def build(net):
             body_port = act.role.port("reference")
