@@ -293,13 +293,12 @@ def _restrained(su: Setup, base: Stage, lim: dict, st: Settings, progress) -> St
     return stage
 
 
-def _base_fit_findings(su: Setup, stage: Stage, judged: list[dict]) -> list[dict]:
+def _base_fit_findings(su: Setup, stage: Stage, judged: list[dict], late: bool = False) -> list[dict]:
     """Effects whose parameter the file already has free from "off" and the fit moved, and
     entrained air the fit put into the chambers' volumes (:mod:`.findings`), judged on
-    ``stage`` (the base fit, or the final model: :func:`_still_found`)."""
+    ``stage`` (the base fit, or the final model: :func:`_still_found`). ``late``: instead the
+    findings judged only on the final model, after the candidates (:func:`_late_findings`)."""
     ctx = replace(_context(su, stage), net=su.net, free=set())
-    cands, _ = catalogue(ctx)
-    offs = findings.off_values(cands)
     val = residuals.total(stage.esr_validation)
     model = stage.model
 
@@ -308,6 +307,10 @@ def _base_fit_findings(su: Setup, stage: Stage, judged: list[dict]) -> list[dict
         off_total = residuals.total(residuals.esr_table(model, su.validate, Y, su.outputs))
         return off_total - val, accept.need(off_total, su.noise_total, selected=False)
     chambers = [findings.Chambers(a.name, tuple(a.params("dead_volumes"))) for a in ctx.parts(R.ACTUATOR)]
+    if late:
+        return findings.undrawn_volume(judged, chambers, gain_at)
+    cands, _ = catalogue(ctx)
+    offs = findings.off_values(cands)
     return (findings.base_fit_findings(judged, offs, lambda names: gain_at({n: offs[n].ref for n in names}))
             + findings.fluid_compliance_excess(judged, chambers, gain_at))
 
@@ -407,7 +410,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     if not passing:
         _log(progress, "  no candidate passes BIC + validation + plausibility")
         return out
-    band = accept.need(v_base, su.noise_total)
+    band = accept.indistinct(v_base, su.noise_total)
     passing = _simplest(_rank_passing(passing), band)
     dbic_best, c, f = passing[0]
     close = ALTERNATIVE * min(p[0] for p in passing)   # ΔBIC that the training data barely tell from the best
@@ -688,6 +691,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
             stage = rnd.stage
     if stage is not b.stage:
         accepted = _still_found(su, b, stage, accepted, progress)
+    accepted = accepted + _late_findings(su, b, stage, accepted, progress)
     data = conclude(su, b, stage, accepted, ranking, skipped, train_paths, validate_paths, t_start)
     if ambiguous:
         data["ambiguous"] = [{k: v for k, v in a.items() if k != "proposed_experiment_text"} for a in ambiguous]
@@ -702,9 +706,7 @@ def _still_found(su: Setup, b: Baseline, final: Stage, accepted: list[dict], pro
     delay is in (dev EHA input delay: V_A0 ×4.3 → ×1.15). The finding is kept only while
     the final model still needs it; a finding that lets the base model run at all (stops at
     the recorded ends, :mod:`.runaway`) is not re-judged."""
-    judged = [dict(j, value=float(final.p[final.model.param_index(j["name"])]), stderr=final.stderr[j["name"]])
-              for j in b.judged if j["name"] in final.stderr and j["name"] in final.model.param_names]
-    again = {(f["effect"], f["component"]) for f in _base_fit_findings(su, final, judged)}
+    again = {(f["effect"], f["component"]) for f in _base_fit_findings(su, final, _judged_on(b, final))}
     keep = []
     for a in accepted:
         if a.get("source") == "base_fit" and "validation_gain" in a and (a["effect"], a["component"]) not in again:
@@ -713,6 +715,27 @@ def _still_found(su: Setup, b: Baseline, final: Stage, accepted: list[dict], pro
             continue
         keep.append(a)
     return keep
+
+
+def _judged_on(b: Baseline, final: Stage) -> list[dict]:
+    """The base fit's parameter rows with the final model's values and standard errors."""
+    return [dict(j, value=float(final.p[final.model.param_index(j["name"])]), stderr=final.stderr[j["name"]])
+            for j in b.judged if j["name"] in final.stderr and j["name"] in final.model.param_names]
+
+
+def _late_findings(su: Setup, b: Baseline, final: Stage, accepted: list[dict], progress=None) -> list[dict]:
+    """Findings the final model's own fit still shows once the candidates had their chance
+    (:func:`findings.undrawn_volume`): listed after them, never in place of one, and not when an
+    accepted effect already adds fluid compliance (a line on the valve that feeds it, air)."""
+    judged = b.judged if final is b.stage else _judged_on(b, final)
+    if {a["effect"] for a in accepted} & {"line_dynamics", "entrained_air"}:
+        return []
+    out = []
+    for f in _base_fit_findings(su, final, judged, late=True):
+        _log(progress, f"  the fit found {f['effect']} on '{f['component']}' (validation gain "
+                       f"{f['validation_gain']:.3g} % > {f['noise_band']:.3g} %)")
+        out.append(f)
+    return out
 
 
 def _param(judged, name):

@@ -123,6 +123,43 @@ def fluid_compliance_excess(judged: list[dict], actuators: list[Chambers], gain_
     return found
 
 
+def undrawn_volume(judged: list[dict], actuators: list[Chambers], gain_of) -> list[dict]:
+    """Fluid volume the drawing leaves out on ONE side: the base fit needs ``EXCESS`` × or more
+    of the drawn volume, well determined, in some but not every chamber of an actuator. A
+    chamber's volume at the reference position is a drawing dimension; what the oil between the
+    valve and that chamber adds beyond it is the hose or pipe on that side (its volume is what a
+    line does at the frequencies a commissioning test excites; its inertance and resistance come
+    later), so the effect is ``line_dynamics`` with free air trapped on that side as the
+    alternative. Air carried by the oil would soften every chamber (:func:`fluid_compliance_excess`).
+
+    A grown volume also stands in for other effects — a rod–load link on a gravity-loaded
+    cylinder puts its compliance on the loaded side, a delayed command is mimicked by slower
+    pressure build-up — so this finding comes LAST: judged on the final model, after the
+    catalogue's candidates had their chance to take the volume back to the drawing's
+    (``engine.diagnose``). ``gain_of({name: value}) -> (gain %, need %)`` as there."""
+    rows = {j["name"]: j for j in judged}
+    found = []
+    for act in actuators:
+        js = [rows.get(n) for n in act.volumes]
+        if any(j is None for j in js):
+            continue
+        grown = [j for j in js if _grown(j)]
+        if not grown or len(grown) == len(js):
+            continue
+        gain, need = gain_of({j["name"]: j["initial"] for j in grown})
+        if not gain > need:
+            continue
+        ratios = ", ".join(f"{j['name']} ×{j['value'] / j['initial']:.2g}" for j in grown)
+        found.append({"effect": "line_dynamics", "component": act.component, "source": "base_fit",
+                      "parameters": [{"name": j["name"], "value": j["value"], "stderr": j["stderr"],
+                                      "file_value": j["initial"]} for j in grown],
+                      "validation_gain": gain, "noise_band": need, "alternatives": ["entrained_air"],
+                      "description": f"the fit needs more fluid volume on one side of '{act.component}' than "
+                                     f"the drawing has ({ratios}): a hose or pipe between the valve and that "
+                                     f"chamber the file leaves out, or air trapped there"})
+    return found
+
+
 def _grown(j: dict) -> bool:
     v, v0, se = j["value"], j["initial"], j["stderr"]
     return v0 > 0 and v >= EXCESS * v0 and np.isfinite(se) and v - v0 > Z_MIN * se

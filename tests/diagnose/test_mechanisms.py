@@ -122,11 +122,12 @@ def test_a_declared_parameter_needs_no_look_elsewhere_margin():
     at 200 σ, worth 0.5 % held-out ESR beside a 0.64 % floor, was answered a bare `none`)."""
     from hydrocli.diagnose import accept
     val_off, floor = 1.7, 0.64
-    assert accept.need(val_off, floor) == pytest.approx(floor)
+    assert accept.need(val_off, floor) == pytest.approx(accept.LOOK_ELSEWHERE * floor)
     declared = accept.need(val_off, floor, selected=False)
     assert declared == pytest.approx(accept.MIN_REL * (val_off - floor))
-    assert declared < 0.5 < accept.need(val_off, floor)
+    assert declared < accept.need(val_off, floor)
     assert accept.need(0.5, floor, selected=False) == 0.0    # nothing above the floor: any real gain
+    assert accept.need(0.5, floor) == pytest.approx(accept.LOOK_ELSEWHERE * floor)  # a selection: margin
 
 
 def test_unexplained_mismatch_when_error_stays_above_noise():
