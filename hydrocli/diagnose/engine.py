@@ -302,17 +302,26 @@ def _base_fit_findings(su: Setup, stage: Stage, judged: list[dict], late: bool =
     val = residuals.total(stage.esr_validation)
     model = stage.model
 
+    tables = {}
+
     def gain_at(values: dict[str, float]):
         Y = residuals.simulate_outputs(model, su.validate, model.param_vector(values, base=stage.p))
-        off_total = residuals.total(residuals.esr_table(model, su.validate, Y, su.outputs))
+        tables[frozenset(values)] = residuals.esr_table(model, su.validate, Y, su.outputs)
+        off_total = residuals.total(tables[frozenset(values)])
         return off_total - val, accept.need(off_total, su.noise_total, selected=False)
     chambers = [findings.Chambers(a.name, tuple(a.params("dead_volumes"))) for a in ctx.parts(R.ACTUATOR)]
     if late:
-        return findings.undrawn_volume(judged, chambers, gain_at)
-    cands, _ = catalogue(ctx)
-    offs = findings.off_values(cands)
-    return (findings.base_fit_findings(judged, offs, lambda names: gain_at({n: offs[n].ref for n in names}))
-            + findings.fluid_compliance_excess(judged, chambers, gain_at))
+        found = findings.undrawn_volume(judged, chambers, gain_at)
+    else:
+        offs = findings.off_values(catalogue(ctx)[0])
+        found = (findings.base_fit_findings(judged, offs, lambda names: gain_at({n: offs[n].ref for n in names}))
+                 + findings.fluid_compliance_excess(judged, chambers, gain_at))
+    for f in found:
+        # like a candidate's: the held-out ESR without the finding (its parameters back at the
+        # file's values) and with it, the model the base fit (or the final one) is
+        f["esr_validation_before"] = tables.get(frozenset(q["name"] for q in f["parameters"]), {})
+        f["esr_validation_after"] = dict(stage.esr_validation)
+    return found
 
 
 # -- step 3 -------------------------------------------------------------------------------

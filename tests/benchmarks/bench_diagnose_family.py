@@ -80,6 +80,15 @@ def gap_closed(before: dict, after: dict, noise: dict) -> bool:
     return bool(ok)
 
 
+def model_before(data: dict) -> dict:
+    """Validation ESR of the model WITHOUT the first named effect: the base fit's, or, when the
+    base fit itself found the effect (``source: base_fit``: a leak coefficient moved from 0, a
+    chamber volume grown), the base fit with that finding's parameters back at the file's
+    values — the base already contains the finding, and its ESR is the 'after'."""
+    first = (data.get("accepted") or [{}])[0]
+    return first.get("esr_validation_before") or data.get("esr_validation_base", {})
+
+
 def run_case(folder: Path, jobs: int, progress) -> dict:
     from hydrocli.diagnose import Settings, diagnose
     t = case_truth(folder)
@@ -92,7 +101,7 @@ def run_case(folder: Path, jobs: int, progress) -> dict:
     except Exception as exc:                      # one failing case must not stop the bench
         data, err = {}, f"{type(exc).__name__}: {exc}"
     wall = time.perf_counter() - t0
-    before = data.get("esr_validation_base", {})
+    before = model_before(data)
     after = data.get("esr_validation_final", {})
     named = top1(data) if err is None else "error"
     return {**t, "named": named, "named_all": data.get("effects", []), "verdict": data.get("verdict"),

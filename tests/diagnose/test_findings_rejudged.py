@@ -7,6 +7,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 
 from hydrocli.components.hydraulic.fluid import effective_bulk_modulus
 from hydrocli.diagnose import engine, findings
@@ -111,3 +112,27 @@ def test_volume_one_side_needs_beyond_the_drawing_is_a_hose_named_after_the_cand
     # not needed by the held-out data: nothing
     assert findings.undrawn_volume(_judged((6e-4, 6e-4)), [findings.Chambers("cylinder", VOLS)],
                                    lambda v: (0.05, 0.1)) == []
+
+
+def test_a_finding_reports_the_held_out_error_without_it_and_with_it():
+    """The real wiring (engine._base_fit_findings on the short demo lift): pretend the drawing
+    says a third of the bore-side volume the recording needs. The late rule finds the hose,
+    and the finding carries the held-out ESR with V_A0 back at the drawing's (before) and as
+    fitted (after), like a candidate does — the benchmark's gap is measured from 'before'."""
+    case = ROOT / "experiments" / "family" / "demo" / "lift" / "lift__none__base_a__s0"
+    su = engine.prepare(case / "base.yaml", [case / "train.csv"], [case / "validate.csv"], engine.Settings())
+    m = su.model
+    p = np.array(m.p0, float)
+    stage = engine._stage(su.net, m, p, 1.0, list(m.free_params), su.train, su.validate, su.outputs)
+    va, vb = (float(p[m.param_index(n)]) for n in VOLS)
+    judged = [{"name": VOLS[0], "value": va, "initial": va / 3, "stderr": va * 1e-3},
+              {"name": VOLS[1], "value": vb, "initial": vb, "stderr": vb * 1e-3}]
+    found = engine._base_fit_findings(su, stage, judged, late=True)
+    assert [(f["effect"], f["source"]) for f in found] == [("line_dynamics", "base_fit")]
+    f = found[0]
+    assert f["esr_validation_after"] == stage.esr_validation
+    before, after = sum(f["esr_validation_before"].values()), sum(stage.esr_validation.values())
+    assert before - after == pytest.approx(f["validation_gain"], rel=1e-9) and before > after
+    # the volume as drawn: nothing found
+    judged[0]["initial"] = va
+    assert engine._base_fit_findings(su, stage, judged, late=True) == []

@@ -29,6 +29,19 @@ def test_gap_closed_rule():
     assert not bench.gap_closed({"P1": 2.1}, {"P1": 0.6}, noise)
 
 
+def test_the_gap_of_a_base_fit_finding_is_measured_without_it():
+    """The base fit already contains what it found (c_el moved from 0, a chamber volume grown):
+    its 'before' is the base with those parameters back at the file's values."""
+    base, final = {"P1": 0.2}, {"P1": 0.2}
+    found = {"accepted": [{"source": "base_fit", "esr_validation_before": {"P1": 0.9}}],
+             "esr_validation_base": base, "esr_validation_final": final}
+    assert bench.model_before(found) == {"P1": 0.9}
+    assert bench.gap_closed(bench.model_before(found), final, {"P1": 0.15})
+    assert not bench.gap_closed(base, final, {"P1": 0.15})            # against the base: nothing closed
+    assert bench.model_before({"accepted": [], "esr_validation_base": base}) == base
+    assert bench.model_before({"esr_validation_base": base}) == base
+
+
 def test_aggregate_counts():
     rows = [_row("entrained_air", "entrained_air"), _row("entrained_air", "structural_flexibility", size=0.6),
             _row("structural_flexibility", "structural_flexibility", machine="rotary"),
