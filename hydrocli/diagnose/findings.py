@@ -109,17 +109,10 @@ def fluid_compliance_excess(judged: list[dict], actuators: list[Chambers], gain_
         js = [rows.get(n) for n in act.volumes]
         if len(js) < 2 or any(j is None or not _grown(j) for j in js):
             continue
-        gain, need = gain_of({j["name"]: j["initial"] for j in js})
-        if not gain > need:
-            continue
-        ratios = ", ".join(f"{j['name']} ×{j['value'] / j['initial']:.2g}" for j in js)
-        found.append({"effect": "entrained_air", "component": act.component, "source": "base_fit",
-                      "parameters": [{"name": j["name"], "value": j["value"], "stderr": j["stderr"],
-                                      "file_value": j["initial"]} for j in js],
-                      "validation_gain": gain, "noise_band": need, "alternatives": ["line_dynamics"],
-                      "description": f"the base fit needs more fluid compliance in every chamber of "
-                                     f"'{act.component}' than oil in the drawn volumes has ({ratios}): free "
-                                     f"air in the oil, or hose volume the file leaves out"})
+        found += _volume_finding(act, js, gain_of, "entrained_air", "line_dynamics",
+                                 "the base fit needs more fluid compliance in every chamber of "
+                                 f"'{act.component}' than oil in the drawn volumes has ({{ratios}}): free "
+                                 "air in the oil, or hose volume the file leaves out")
     return found
 
 
@@ -146,18 +139,27 @@ def undrawn_volume(judged: list[dict], actuators: list[Chambers], gain_of) -> li
         grown = [j for j in js if _grown(j)]
         if not grown or len(grown) == len(js):
             continue
-        gain, need = gain_of({j["name"]: j["initial"] for j in grown})
-        if not gain > need:
-            continue
-        ratios = ", ".join(f"{j['name']} ×{j['value'] / j['initial']:.2g}" for j in grown)
-        found.append({"effect": "line_dynamics", "component": act.component, "source": "base_fit",
-                      "parameters": [{"name": j["name"], "value": j["value"], "stderr": j["stderr"],
-                                      "file_value": j["initial"]} for j in grown],
-                      "validation_gain": gain, "noise_band": need, "alternatives": ["entrained_air"],
-                      "description": f"the fit needs more fluid volume on one side of '{act.component}' than "
-                                     f"the drawing has ({ratios}): a hose or pipe between the valve and that "
-                                     f"chamber the file leaves out, or air trapped there"})
+        found += _volume_finding(act, grown, gain_of, "line_dynamics", "entrained_air",
+                                 f"the fit needs more fluid volume on one side of '{act.component}' than "
+                                 "the drawing has ({ratios}): a hose or pipe between the valve and that "
+                                 "chamber the file leaves out, or air trapped there")
     return found
+
+
+def _volume_finding(act: Chambers, grown: list[dict], gain_of, effect: str, alternative: str,
+                    description: str) -> list[dict]:
+    """[the finding] when the held-out data need the ``grown`` volumes (back at the drawing's,
+    the validation ESR rises by more than the band), else []. ``description`` may hold
+    ``{ratios}``."""
+    gain, need = gain_of({j["name"]: j["initial"] for j in grown})
+    if not gain > need:
+        return []
+    ratios = ", ".join(f"{j['name']} ×{j['value'] / j['initial']:.2g}" for j in grown)
+    return [{"effect": effect, "component": act.component, "source": "base_fit",
+             "parameters": [{"name": j["name"], "value": j["value"], "stderr": j["stderr"],
+                             "file_value": j["initial"]} for j in grown],
+             "validation_gain": gain, "noise_band": need, "alternatives": [alternative],
+             "description": description.replace("{ratios}", ratios)}]
 
 
 def _grown(j: dict) -> bool:
