@@ -360,7 +360,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     before = floor if floor is not None and residuals.total(floor.esr_validation) < residuals.total(
         stage.esr_validation) else stage
     remaining = [c for c in order if scores[c.key]["error"] is None]
-    fits, base_ref, grad, passing, judged = {}, {}, {}, [], {}
+    fits, base_ref, grad, passing, judged, imprecise = {}, {}, {}, [], {}, []
     for wave in range(1 + EXTRA_WAVES):
         best = shortlist(remaining, scores, n_fit)
         if not best:
@@ -399,6 +399,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
             judged[c.key] = row
             if passed:
                 passing.append((row["delta_bic"], c, fits[c.key]))
+            elif row.get("imprecise"):
+                imprecise.append((row["delta_bic"], c, fits[c.key]))
         # the screening is a linearisation at one probe: when none of its picks passes and the
         # held-out error is still far above the noise (the verdict would be an unexplained
         # mismatch), the next effects in its order are fitted before saying so (real Festo rig,
@@ -415,12 +417,18 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
             judged[c.key], _ = _judge(c, scores[c.key], None, round_, stage.cost, v_base, n_eff, su.noise_total,
                                       accepted, located, ceiling)
         out.rows.append(judged[c.key])
+    lead = _dominant(imprecise, passing, judged)
+    if lead is not None:
+        row = judged[lead[1].key]
+        row.update(passed=True, notes=row.pop("reasons"), reasons=[])
+        _log(progress, f"  {lead[1].effect} beats every precise candidate on ΔBIC and held-out gain; its size is "
+                       f"poorly determined ({'; '.join(row['notes'])})")
     out.rows.sort(key=lambda d: (not d.get("passed", False), not d.get("fitted", False), -d["score"]))
-    if not passing:
+    if not passing and lead is None:
         _log(progress, "  no candidate passes BIC + validation + plausibility")
         return out
     band = accept.indistinct(v_base, su.noise_total)
-    passing = _simplest(_rank_passing(passing), band)
+    passing = _simplest(([lead] if lead is not None else []) + (_rank_passing(passing) if passing else []), band)
     dbic_best, c, f = passing[0]
     close = ALTERNATIVE * min(p[0] for p in passing)   # ΔBIC that the training data barely tell from the best
     alternatives = [{"effect": c2.effect, "component": c2.component, "delta_bic": d2,
@@ -436,7 +444,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                     "description": c.description, "parameters": _new_params(c, f),
                     "delta_bic": row["delta_bic"], "esr_train_before": before.esr_train,
                     "esr_train_after": new.esr_train, "esr_validation_before": before.esr_validation,
-                    "esr_validation_after": new.esr_validation, "alternatives": alternatives}
+                    "esr_validation_after": new.esr_validation, "alternatives": alternatives,
+                    **({"size_poorly_determined": row["notes"]} if row.get("notes") else {})}
     out.stage = new
     _log(progress, f"  accepted {c.effect} on '{c.component}': validation ESR {_fmt(before.esr_validation)} "
                    f"→ {_fmt(new.esr_validation)}")
@@ -545,6 +554,21 @@ def _judge(c: Candidate, score: dict, f: dict | None, round_: int, ssr0: float, 
     if score["error"]:
         row["error"] = score["error"]
     return row, passed
+
+
+def _dominant(imprecise: list, passing: list, rows: dict):
+    """The (ΔBIC, candidate, fit) of an imprecise candidate (:func:`accept.judge`: it fails on
+    the precision of its size alone) that beats EVERY passing candidate on both tests — a lower
+    ΔBIC and a larger held-out gain — or None. The data then prefer an explanation whose size
+    they cannot pin down; naming the precise runner-up instead would name the wrong physics
+    (dev EHA, isothermal air: air ΔBIC −15 879 and gain 0.88 %, its amount ±56 % against a free
+    bulk modulus; a hose passed at −1027 and 0.53 % and was named). With no passing candidate
+    an imprecise one that passes BIC and the held-out band is named likewise."""
+    gain = {c.key: rows[c.key]["validation_gain"] for _, c, _ in imprecise + passing}
+    for d, c, f in sorted(imprecise, key=lambda x: x[0]):
+        if all(d < d2 and gain[c.key] > gain[c2.key] for d2, c2, _ in passing):
+            return d, c, f
+    return None
 
 
 def _rank_passing(passing: list) -> list:

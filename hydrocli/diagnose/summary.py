@@ -90,6 +90,9 @@ def console_summary(diag) -> str:
                          f"({pars}); adding it cut validation ESR of {o} from "
                          f"{a['esr_validation_before'][o]:.3g} % to {a['esr_validation_after'][o]:.3g} % "
                          f"(ΔBIC {a['delta_bic']:+.0f}).")
+            if a.get("size_poorly_determined"):
+                lines.append(f"  Its size is poorly determined ({'; '.join(a['size_poorly_determined'])}): these "
+                             "data show the effect is there, not how large it is.")
             for alt in a.get("alternatives", []):
                 lines.append(f"  Nearly as good: {alt['effect'].replace('_', ' ')} on '{alt['component']}' "
                              f"(ΔBIC {alt['delta_bic']:+.0f}); these data barely tell the two apart.")

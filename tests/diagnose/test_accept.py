@@ -71,3 +71,28 @@ def test_stop_positions_are_judged_against_the_stroke_and_stiffness_is_a_compani
     # a stop position uncertain by half the stroke is not
     vague = _stop(-0.0005, 0.12, 7e9)
     assert not vague["passed"] and any("x_min poorly determined" in r for r in vague["reasons"])
+
+
+def test_a_candidate_failing_on_precision_alone_is_imprecise_not_rejected_outright():
+    vague = accept.judge(_cand(), _fit(100.0, 90.0, 0.2), 1.0, 500, 10.0, 2.0, 0.2)
+    assert not vague["passed"] and vague["imprecise"]
+    vague_no_gain = accept.judge(_cand(), _fit(100.0, 90.0, 0.2), 1.0, 500, 10.0, 9.9, 0.2)
+    assert not vague_no_gain["passed"] and not vague_no_gain["imprecise"]     # and another reason
+    clear = accept.judge(_cand(), _fit(1200.0, 50.0, 0.2), 1.0, 500, 10.0, 2.0, 0.2)
+    assert clear["passed"] and not clear["imprecise"]
+
+
+def test_an_imprecise_candidate_is_preferred_only_when_it_beats_every_precise_one_on_both_tests():
+    """Dev EHA with isothermal air: air ΔBIC −15 879, held-out gain 0.88 %, its amount ±56 %
+    (it trades against the free bulk modulus); a hose passed at −1027 / 0.53 % and was named.
+    The likelihood-ratio test (ΔBIC) says the air is there; the Wald test says only that its
+    amount is uncertain."""
+    from types import SimpleNamespace
+    from hydrocli.diagnose.engine import _dominant
+    air, hose, leak = (SimpleNamespace(key=k) for k in ("air", "hose", "leak"))
+    rows = {"air": {"validation_gain": 0.88}, "hose": {"validation_gain": 0.53}, "leak": {"validation_gain": 0.95}}
+    assert _dominant([(-15879, air, {})], [(-1027, hose, {})], rows)[1] is air
+    assert _dominant([(-15879, air, {})], [], rows)[1] is air                       # nothing precise passes
+    assert _dominant([(-15879, air, {})], [(-1027, hose, {}), (-900, leak, {})], rows) is None  # leak gains more
+    assert _dominant([(-800, air, {})], [(-1027, hose, {})], rows) is None           # hose fits the training better
+    assert _dominant([], [(-1027, hose, {})], rows) is None

@@ -21,3 +21,11 @@ def test_summary_names_the_effect_its_gain_and_a_close_alternative():
     assert "Input delay on 'valve' was missing" in text and "from 9.15 % to 2.88 %" in text
     assert "Nearly as good: valve hysteresis on 'valve' (ΔBIC -1386)" in text
     assert "Nearly as good" not in console_summary(_diag([]))
+
+
+def test_summary_says_when_an_effects_size_is_poorly_determined():
+    d = _diag([])
+    d.data["accepted"][0]["size_poorly_determined"] = ["u_delay.T poorly determined (±56 % of its effect)"]
+    text = console_summary(d)
+    assert "Its size is poorly determined (u_delay.T poorly determined (±56 % of its effect))" in text
+    assert "poorly determined" not in console_summary(_diag([]))
