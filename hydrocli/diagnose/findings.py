@@ -110,9 +110,10 @@ def fluid_compliance_excess(judged: list[dict], actuators: list[Chambers], gain_
         if len(js) < 2 or any(j is None or not _grown(j) for j in js):
             continue
         found += _volume_finding(act, js, gain_of, "entrained_air", "line_dynamics",
-                                 "the base fit needs more fluid compliance in every chamber of "
-                                 f"'{act.component}' than oil in the drawn volumes has ({{ratios}}): free "
-                                 "air in the oil, or hose volume the file leaves out")
+                                 lambda ratios: "the base fit needs more fluid compliance in every chamber "
+                                                f"of '{act.component}' than oil in the drawn volumes has "
+                                                f"({ratios}): free air in the oil, or hose volume the file "
+                                                "leaves out")
     return found
 
 
@@ -140,17 +141,18 @@ def undrawn_volume(judged: list[dict], actuators: list[Chambers], gain_of) -> li
         if not grown or len(grown) == len(js):
             continue
         found += _volume_finding(act, grown, gain_of, "line_dynamics", "entrained_air",
-                                 f"the fit needs more fluid volume on one side of '{act.component}' than "
-                                 "the drawing has ({ratios}): a hose or pipe between the valve and that "
-                                 "chamber the file leaves out, or air trapped there")
+                                 lambda ratios: f"the fit needs more fluid volume on one side of "
+                                                f"'{act.component}' than the drawing has ({ratios}): a hose "
+                                                "or pipe between the valve and that chamber the file leaves "
+                                                "out, or air trapped there")
     return found
 
 
 def _volume_finding(act: Chambers, grown: list[dict], gain_of, effect: str, alternative: str,
-                    description: str) -> list[dict]:
+                    describe) -> list[dict]:
     """[the finding] when the held-out data need the ``grown`` volumes (back at the drawing's,
-    the validation ESR rises by more than the band), else []. ``description`` may hold
-    ``{ratios}``."""
+    the validation ESR rises by more than the band), else []. ``describe(ratios)`` words it,
+    given "V_A0 ×3.1, …"."""
     gain, need = gain_of({j["name"]: j["initial"] for j in grown})
     if not gain > need:
         return []
@@ -159,7 +161,7 @@ def _volume_finding(act: Chambers, grown: list[dict], gain_of, effect: str, alte
              "parameters": [{"name": j["name"], "value": j["value"], "stderr": j["stderr"],
                              "file_value": j["initial"]} for j in grown],
              "validation_gain": gain, "noise_band": need, "alternatives": [alternative],
-             "description": description.replace("{ratios}", ratios)}]
+             "description": describe(ratios)}]
 
 
 def _grown(j: dict) -> bool:
