@@ -100,14 +100,13 @@ def conditional_stderr(names: list[str], stderr, correlation, given: set[str]) -
     return out
 
 
-def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: float, noise: float,
-          later: bool = False, first_gain: float | None = None, ceiling: float | None = None) -> dict:
-    """Rules 1–3 for a candidate fitted from a model with validation ESR ``val0`` (summed, %) to
-    ``val1``. ``ceiling``: from a restrained base (:mod:`.restrain`), the free base's validation
-    ESR, which the candidate must not exceed (rule 2 then measures the gain from the
-    restrained base: the plausible explanation must predict as well as the implausible fit)."""
-    k = len(cand.params)
-    dbic = stats.delta_bic(ssr0, fitres["cost"], n_eff, k)
+def presence(ssr0: float, ssr1: float, k: int, n_eff: float, val0: float, val1: float, noise: float,
+             later: bool = False, first_gain: float | None = None) -> tuple[float, float, float, list[str]]:
+    """Rules 1–2, the effect's presence: an effect with ``k`` parameters that takes the training
+    SSR from ``ssr0`` to ``ssr1`` and the summed validation ESR from ``val0`` to ``val1`` is
+    there if ΔBIC < 0 and the held-out gain exceeds :func:`need`. Returns (ΔBIC, gain, band,
+    reasons it is not)."""
+    dbic = stats.delta_bic(ssr0, ssr1, n_eff, k)
     gain = val0 - val1
     need_ = need(val0, noise, later, first_gain)
     reasons = []
@@ -115,6 +114,17 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
         reasons.append(f"BIC does not improve (ΔBIC = {dbic:+.1f})")
     if not gain > need_:
         reasons.append(f"validation ESR gain {gain:.3g} % is within the noise band ({need_:.3g} %)")
+    return dbic, gain, need_, reasons
+
+
+def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: float, noise: float,
+          later: bool = False, first_gain: float | None = None, ceiling: float | None = None) -> dict:
+    """Rules 1–3 for a candidate fitted from a model with validation ESR ``val0`` (summed, %) to
+    ``val1``. ``ceiling``: from a restrained base (:mod:`.restrain`), the free base's validation
+    ESR, which the candidate must not exceed (rule 2 then measures the gain from the
+    restrained base: the plausible explanation must predict as well as the implausible fit)."""
+    dbic, gain, need_, reasons = presence(ssr0, fitres["cost"], len(cand.params), n_eff, val0, val1, noise,
+                                          later, first_gain)
     if ceiling is not None and not val1 <= ceiling:
         reasons.append(f"validation ESR {val1:.3g} % above the free base's {ceiling:.3g} %")
     est = dict(zip(fitres["names"], fitres["estimates"]))

@@ -68,3 +68,26 @@ def test_a_candidate_fit_also_starts_from_the_machine_as_drawn():
     obj_off = SimpleNamespace(cost=lambda q: float(q[1] ** 2 + (q[0] - 0.8) ** 2))
     out = _fit_starts(obj_off, near, model, starts, drawn)
     assert np.allclose(out[0], [0.8, 0.0]) and len(out) == 2 and out[1][1] > 0
+
+
+def test_a_compliance_is_fitted_with_the_effect_present_from_each_base():
+    """each_base: a compliance's mode is tuned by its stiffness AND the base's masses and
+    volumes, so the best start with the effect present is fitted from the bent base fit and
+    from the drawing alike — a single simulation's cost cannot say which basin holds the
+    truth."""
+    import numpy as np
+    from types import SimpleNamespace
+    from hydrocli.diagnose.workers import _fit_starts
+
+    names = ["V", "l"]
+    model = SimpleNamespace(param_index=names.index,
+                            param_vector=lambda over, base: np.array([over.get(n, base[i]) for i, n in enumerate(names)]))
+    bent, drawn = np.array([2.6, 0.05]), np.array([1.0, 0.05])
+    # the bent base with the hose off is cheapest; with a hose, the bent base is cheaper than the drawing
+    obj = SimpleNamespace(cost=lambda q: float((q[0] - 2.6) ** 2 + 0.1 * q[1] + (0.0 if q[0] > 2 else 0.5)))
+    starts = [{"l": 0.05}, {"l": 2.0}, {"l": 6.0}]
+    plain = _fit_starts(obj, bent, model, starts, drawn)
+    assert len(plain) == 2 and all(q[0] == 2.6 for q in plain)      # off, and on — both from the bent base
+    out = _fit_starts(obj, bent, model, starts, drawn, each_base=True)
+    assert len(out) == 3 and all(np.allclose(a, b) for a, b in zip(out[:2], plain))
+    assert np.allclose(out[2], [1.0, 2.0])                           # the drawing with the cheapest hose

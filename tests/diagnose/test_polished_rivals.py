@@ -1,0 +1,64 @@
+"""Two candidates whose quick fits the data do not tell apart are both polished and judged
+again (engine._decide_polished): the choice rests on fits at their minimum, not on where a
+15-iteration budget stopped each."""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from hydrocli.diagnose import engine, stats
+
+N_EFF = 5000.0
+SSR0 = 1.0
+
+
+def _cand(effect, k):
+    return SimpleNamespace(key=f"{effect}@x", effect=effect, params=[0] * k)
+
+
+def _quick(cost, val):
+    return {"cost": cost, "esr_validation": {"P1": val}}
+
+
+def _decide(monkeypatch, polished_costs, polished_vals, band=0.2):
+    link, hose = _cand("load_compliance", 2), _cand("line_dynamics", 6)
+    calls = []
+
+    def fake_polish(su, stage, c, text, f, n_eff, st, progress):
+        calls.append(c.effect)
+        new = SimpleNamespace(esr_validation={"P1": polished_vals[c.effect]}, p=np.zeros(1),
+                              model=SimpleNamespace(param_names=["a"]))
+        return new, dict(f, cost=polished_costs[c.effect])
+
+    monkeypatch.setattr(engine, "_polish", fake_polish)
+    # quick fits: the link slightly ahead on the held-out data, alike on BIC
+    win = (stats.delta_bic(SSR0, 0.55, N_EFF, 2), link, _quick(0.55, 0.46))
+    rival = (stats.delta_bic(SSR0, 0.54, N_EFF, 6), hose, _quick(0.54, 0.58))
+    return engine._decide_polished(None, None, win, rival, {link.key: "", hose.key: ""}, N_EFF, {link.key: SSR0, hose.key: SSR0},
+                                   band, engine.Settings(), None), calls
+
+
+def test_the_polished_fits_decide_when_one_pulls_clear(monkeypatch):
+    # polished, the hose halves the link's remaining SSR: no longer close on BIC → the hose, no rival
+    (first, rival, polished), calls = _decide(monkeypatch, {"load_compliance": 0.55, "line_dynamics": 0.2},
+                                              {"load_compliance": 0.46, "line_dynamics": 0.30})
+    assert sorted(calls) == ["line_dynamics", "load_compliance"]
+    assert first[1].effect == "line_dynamics" and rival is None
+    assert first[0] == pytest.approx(stats.delta_bic(SSR0, 0.2, N_EFF, 6))
+    assert set(polished) == {"load_compliance@x", "line_dynamics@x"}
+    assert first[2]["esr_validation"] == {"P1": 0.30}          # judged on the polished model's prediction
+
+
+def test_still_alike_after_polishing_stays_ambiguous(monkeypatch):
+    (first, rival, _), _ = _decide(monkeypatch, {"load_compliance": 0.55, "line_dynamics": 0.53},
+                                   {"load_compliance": 0.46, "line_dynamics": 0.50})
+    # close on BIC: the held-out data rank them (the link predicts better), and they are not separated
+    assert first[1].effect == "load_compliance" and rival is not None and rival[1].effect == "line_dynamics"
+
+
+def test_separated_on_held_out_data_after_polishing_is_not_ambiguous(monkeypatch):
+    (first, rival, _), _ = _decide(monkeypatch, {"load_compliance": 0.55, "line_dynamics": 0.53},
+                                   {"load_compliance": 0.46, "line_dynamics": 0.90})
+    assert first[1].effect == "load_compliance" and rival is None
