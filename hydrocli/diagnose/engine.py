@@ -631,10 +631,10 @@ def _decide_polished(su: Setup, stage: Stage, win, rival, texts: dict, n_eff: fl
     """Two passing candidates whose quick fits (``candidate_evals`` iterations each) the data do
     not tell apart: both are polished (all parameters free, :func:`_polish`) and judged again
     on the polished fits, by the round's own ranking (:func:`_rank_passing`). A quick fit
-    stops where the budget ends, and two compliances that both add a mode reach it at
-    different distances from their optimum: a hose whose fit must tune a volume, an inertance
-    and a loss together is still short of its minimum where a rod–load link, one stiffness,
-    is already at its own (dev lift hose: ΔBIC −3086 against −2986 quick). Returns the winner
+    stops where the budget ends, and two candidates reach it at different distances from
+    their optimum: a hose whose fit must tune a volume, an inertance and a loss together can
+    still be short of its minimum where a rod–load link, one stiffness, is already at its own.
+    Comparing them there would compare budgets, not explanations. Returns the winner
     (ΔBIC, candidate, fit), the rival when they are still not told apart (else None), and
     {key: (stage, fit)} of the polished models."""
     polished, again = {}, []
