@@ -96,6 +96,9 @@ def console_summary(diag) -> str:
             for alt in a.get("alternatives", []):
                 lines.append(f"  Nearly as good: {alt['effect'].replace('_', ' ')} on '{alt['component']}' "
                              f"(ΔBIC {alt['delta_bic']:+.0f}); these data barely tell the two apart.")
+    for w in d.get("withdrawn", []):
+        lines.append(f"{w['effect'].replace('_', ' ').capitalize()} on '{w['component']}', accepted in an earlier "
+                     f"round, was withdrawn: {w['why']}.")
     for amb in d.get("ambiguous", []):
         a, b = amb["effects"]
         prop = amb.get("proposed_experiment")

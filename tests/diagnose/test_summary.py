@@ -29,3 +29,13 @@ def test_summary_says_when_an_effects_size_is_poorly_determined():
     text = console_summary(d)
     assert "Its size is poorly determined (u_delay.T poorly determined (±56 % of its effect))" in text
     assert "poorly determined" not in console_summary(_diag([]))
+
+
+def test_summary_says_which_earlier_effect_a_later_one_made_redundant():
+    d = _diag([])
+    d.data["withdrawn"] = [{"effect": "structural_flexibility", "component": "vane", "delta_bic": 10478.0,
+                            "why": "not needed beside input_delay on 'valve': BIC does not improve (ΔBIC = +10478)"}]
+    text = console_summary(d)
+    assert ("Structural flexibility on 'vane', accepted in an earlier round, was withdrawn: not needed beside "
+            "input_delay on 'valve'") in text
+    assert "withdrawn" not in console_summary(_diag([]))
