@@ -630,7 +630,8 @@ def _decide_polished(su: Setup, stage: Stage, win, rival, texts: dict, n_eff: fl
                      st: Settings, progress):
     """Two passing candidates whose quick fits (``candidate_evals`` iterations each) the data do
     not tell apart: both are polished (all parameters free, :func:`_polish`) and judged again
-    on the polished fits, by the round's own ranking (:func:`_rank_passing`). A quick fit
+    on the polished fits, by the round's own ranking (:func:`_rank_passing`, then
+    :func:`_simplest`: still alike, the special case is named). A quick fit
     stops where the budget ends, and two candidates reach it at different distances from
     their optimum: a hose whose fit must tune a volume, an inertance and a loss together can
     still be short of its minimum where a rod–load link, one stiffness, is already at its own.
@@ -643,7 +644,7 @@ def _decide_polished(su: Setup, stage: Stage, win, rival, texts: dict, n_eff: fl
         polished[c.key] = (new, fp)
         again.append((stats.delta_bic(ssr0[c.key], fp["cost"], n_eff, len(c.params)), c,
                       dict(fp, esr_validation=new.esr_validation, p=new.p, param_names=new.model.param_names)))
-    first, second = _rank_passing(again)
+    first, second = _simplest(_rank_passing(again), band)
     _log(progress, f"  polished: {first[1].effect} ΔBIC {first[0]:+.0f}, validation "
                    f"{residuals.total(first[2]['esr_validation']):.3g} %; {second[1].effect} ΔBIC {second[0]:+.0f}, "
                    f"validation {residuals.total(second[2]['esr_validation']):.3g} %")

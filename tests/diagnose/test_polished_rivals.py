@@ -62,3 +62,23 @@ def test_separated_on_held_out_data_after_polishing_is_not_ambiguous(monkeypatch
     (first, rival, _), _ = _decide(monkeypatch, {"load_compliance": 0.55, "line_dynamics": 0.53},
                                    {"load_compliance": 0.46, "line_dynamics": 0.90})
     assert first[1].effect == "load_compliance" and rival is None
+
+
+def test_still_alike_after_polishing_the_special_case_is_named(monkeypatch):
+    """A seal friction μ·A·(p_A + p_B) at a constant supply is a Coulomb force with one
+    dependence more (engine._simplest): polished and still not told apart, the special case
+    is named and the richer law stays the rival (the project's concealed Coulomb case)."""
+    seal, coulomb = _cand("pressure_dependent_friction", 2), _cand("coulomb_friction", 2)
+
+    def fake_polish(su, stage, c, text, f, n_eff, st, progress):
+        new = SimpleNamespace(esr_validation={"P1": {"pressure_dependent_friction": 1.40,
+                                                     "coulomb_friction": 1.41}[c.effect]},
+                              p=np.zeros(1), model=SimpleNamespace(param_names=["a"]))
+        return new, dict(f, cost={"pressure_dependent_friction": 0.500, "coulomb_friction": 0.501}[c.effect])
+
+    monkeypatch.setattr(engine, "_polish", fake_polish)
+    win = (stats.delta_bic(SSR0, 0.5, N_EFF, 2), seal, _quick(0.5, 1.40))
+    rival = (stats.delta_bic(SSR0, 0.501, N_EFF, 2), coulomb, _quick(0.501, 1.41))
+    first, second, _ = engine._decide_polished(None, None, win, rival, {seal.key: "", coulomb.key: ""}, N_EFF,
+                                               {seal.key: SSR0, coulomb.key: SSR0}, 0.2, engine.Settings(), None)
+    assert first[1].effect == "coulomb_friction" and second[1].effect == "pressure_dependent_friction"
