@@ -238,6 +238,7 @@ def baseline_step(su: Setup, st: Settings, progress=None, run: runaway.Runaway |
     bounds, at_bound = _bounds(model, res0)
     lim = restrain.limits(_context(su, base), dict(zip(res0.names, res0.estimates)), bounds,
                           dict(zip(res0.names, res0.initial)), at_bound)
+    lim.update(restrain.grown_volumes(found, bounds))
     restrained = _restrained(su, base, lim, st, progress) if lim else None
     return Baseline(base, res0, judged, where, white, found, n_eff, restrained, lim)
 
@@ -742,9 +743,9 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
         for round_ in range(st.max_effects):
             rnd = None
             if round_ == 0 and b.restrained is not None:
-                # which effect does the implausible value stand for? Tried first;
-                # when none beats the free base, the round runs from the free base as usual
-                rnd = round_step(su, b.restrained, accepted, round_, st, pool, b.located, progress, floor=stage)
+                # which effect does the implausible value stand for? Tried first; when none
+                # beats the free base, the round runs from the free base as usual
+                rnd, accepted = _restrained_round(su, b, stage, accepted, st, pool, progress)
                 ranking.extend(rnd.rows)
                 if rnd.accepted is None:
                     _log(progress, "  nothing beats the free base with the implausible values restrained: "
@@ -776,6 +777,50 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
         data["ambiguous"] = [{k: v for k, v in a.items() if k != "proposed_experiment_text"} for a in ambiguous]
     return Diagnosis(data, b.stage, stage, su.train, su.validate, su.outputs, history,
                      [a.get("proposed_experiment_text", "") for a in ambiguous])
+
+
+def _restrained_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict], st: Settings, pool, progress):
+    """Round 1 from the restrained base (:mod:`.restrain`): which effect does the implausible
+    value stand for? Every candidate must beat the ``free`` base as well. Grown chamber volumes
+    (the base fit's fluid-compliance finding) are among the implausible values: their finding
+    steps aside while the candidates that could be that compliance (air, a hose) compete, and
+    gives way when one wins. Returns (the round, the accepted list to carry on)."""
+    excess = [a for a in accepted if a.get("finding") == findings.EXCESS_FINDING]
+    rest = [a for a in accepted if a not in excess]
+    rnd = round_step(su, b.restrained, rest, 0, st, pool, b.located, progress, floor=free)
+    if rnd.accepted is not None and excess:
+        _log(progress, f"  the chambers' grown volumes are explained by {rnd.accepted['effect']} on "
+                       f"'{rnd.accepted['component']}': the volume finding gives way to it")
+        return rnd, rest
+    return rnd, [_labelled(a, rnd.rows, progress) if a in excess else a for a in accepted]
+
+
+def _labelled(finding: dict, rows: list[dict], progress=None) -> dict:
+    """A fluid-compliance finding named by what the training data say of its two readings.
+    Grown volumes are a constant compliance in every chamber; from the restrained base (the
+    drawn volumes) each reading was fitted as a candidate and compared with the grown volumes
+    (``rows``: its ΔBIC against the free base). When held-out data cannot tell them apart (the
+    grown volumes already predict to the noise, so no candidate passes), the form still can:
+    free air softens with falling pressure, a hose adds its volume behind an inertance. The
+    finding is named after its alternative when that one beats the grown volumes on the
+    training data and the finding's own effect does not (dev rotary hose, single T-section:
+    line ΔBIC −1621, air +835 against the grown volumes; the finding had said air)."""
+    def best(effect):
+        fitted = [r for r in rows if r["effect"] == effect and r.get("fitted") and r.get("delta_bic") is not None]
+        return min((r["delta_bic"] for r in fitted), default=None)
+    own = best(finding["effect"])
+    for alt in finding.get("alternatives", []):
+        d_alt = best(alt)
+        if own is not None and d_alt is not None and d_alt < 0 <= own:
+            _log(progress, f"  the grown volumes are {alt} rather than {finding['effect']}: from the drawn volumes "
+                           f"{alt} fits the training data better than the grown volumes (ΔBIC {d_alt:+.0f}), "
+                           f"{finding['effect']} does not ({own:+.0f})")
+            others = [e for e in finding["alternatives"] if e != alt]
+            return dict(finding, effect=alt, alternatives=[finding["effect"], *others],
+                        description=finding["description"] + f"; named {alt}: from the drawn volumes it fits the "
+                                    f"training data better than the grown volumes (ΔBIC {d_alt:+.0f}), "
+                                    f"{finding['effect']} does not ({own:+.0f})")
+    return finding
 
 
 def _backward(su: Setup, b: Baseline, stage: Stage, accepted: list[dict], built: dict, st: Settings,
@@ -852,15 +897,21 @@ def _still_found(su: Setup, b: Baseline, final: Stage, accepted: list[dict], pro
     delay is in (dev EHA input delay: V_A0 ×4.3 → ×1.15). The finding is kept only while
     the final model still needs it; a finding that lets the base model run at all (stops at
     the recorded ends, :mod:`.runaway`) is not re-judged."""
-    again = {(f["effect"], f["component"]) for f in _base_fit_findings(su, final, _judged_on(b, final))}
+    again = {_finding_key(f) for f in _base_fit_findings(su, final, _judged_on(b, final))}
     keep = []
     for a in accepted:
-        if a.get("source") == "base_fit" and "validation_gain" in a and (a["effect"], a["component"]) not in again:
+        if a.get("source") == "base_fit" and "validation_gain" in a and _finding_key(a) not in again:
             _log(progress, f"  the base fit's {a['effect']} on '{a['component']}' is withdrawn: the final model "
                            "no longer needs it (it stood in for an effect the candidates then modelled)")
             continue
         keep.append(a)
     return keep
+
+
+def _finding_key(f: dict) -> tuple[str, str]:
+    """What a base-fit finding is, whatever it was named (:func:`_labelled`): its kind (grown
+    volumes) or its effect (a parameter moved from "off"), and where."""
+    return f.get("finding", f["effect"]), f["component"]
 
 
 def _judged_on(b: Baseline, final: Stage) -> list[dict]:

@@ -31,6 +31,7 @@ Z_MIN = 3.0          # a finding must sit this many (inflated) standard errors f
 MISMATCH_ESR = 1.0   # % validation ESR above the noise floor that the benchmark calls detectable
 BEYOND = 0.05        # held-out positions further than this share of the training span outside it
 EXCESS = 1.5         # × the file's chamber volume in every chamber: more than a drawing's tolerance
+EXCESS_FINDING = "fluid_compliance_excess"   # the finding's ``finding`` key (restrained and tested: engine)
 
 
 @dataclass(frozen=True)
@@ -109,7 +110,7 @@ def fluid_compliance_excess(judged: list[dict], actuators: list[Chambers], gain_
         js = [rows.get(n) for n in act.volumes]
         if len(js) < 2 or any(j is None or not _grown(j) for j in js):
             continue
-        found += _volume_finding(act, js, gain_of, "entrained_air", "line_dynamics",
+        found += _volume_finding(act, js, gain_of, "entrained_air", "line_dynamics", EXCESS_FINDING,
                                  lambda ratios: "the base fit needs more fluid compliance in every chamber "
                                                 f"of '{act.component}' than oil in the drawn volumes has "
                                                 f"({ratios}): free air in the oil, or hose volume the file "
@@ -140,7 +141,7 @@ def undrawn_volume(judged: list[dict], actuators: list[Chambers], gain_of) -> li
         grown = [j for j in js if _grown(j)]
         if not grown or len(grown) == len(js):
             continue
-        found += _volume_finding(act, grown, gain_of, "line_dynamics", "entrained_air",
+        found += _volume_finding(act, grown, gain_of, "line_dynamics", "entrained_air", "undrawn_volume",
                                  lambda ratios: f"the fit needs more fluid volume on one side of "
                                                 f"'{act.component}' than the drawing has ({ratios}): a hose "
                                                 "or pipe between the valve and that chamber the file leaves "
@@ -148,7 +149,7 @@ def undrawn_volume(judged: list[dict], actuators: list[Chambers], gain_of) -> li
     return found
 
 
-def _volume_finding(act: Chambers, grown: list[dict], gain_of, effect: str, alternative: str,
+def _volume_finding(act: Chambers, grown: list[dict], gain_of, effect: str, alternative: str, kind: str,
                     describe) -> list[dict]:
     """[the finding] when the held-out data need the ``grown`` volumes (back at the drawing's,
     the validation ESR rises by more than the band), else []. ``describe(ratios)`` words it,
@@ -157,7 +158,7 @@ def _volume_finding(act: Chambers, grown: list[dict], gain_of, effect: str, alte
     if not gain > need:
         return []
     ratios = ", ".join(f"{j['name']} ×{j['value'] / j['initial']:.2g}" for j in grown)
-    return [{"effect": effect, "component": act.component, "source": "base_fit",
+    return [{"effect": effect, "component": act.component, "source": "base_fit", "finding": kind,
              "parameters": [{"name": j["name"], "value": j["value"], "stderr": j["stderr"],
                              "file_value": j["initial"]} for j in grown],
              "validation_gain": gain, "noise_band": need, "alternatives": [alternative],

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 from ..components import roles as R
 from .baseline import MAX_FAR
+from .findings import EXCESS, EXCESS_FINDING
 from ..netlist.model import Netlist
 from . import augment
 from .candidates import Context
@@ -45,6 +46,7 @@ from .measurement import PRESSURE_TAU_BOUNDS, PRESSURE_TAU_TYPICAL, sensor_compo
 OIL_MIN = 1.0e9   # Pa: the softest effective bulk modulus of oil in a rigid chamber
 SLOW_TRANSDUCER = 0.95 * PRESSURE_TAU_BOUNDS[1]   # s: a transducer lag pressed against the ceiling
 WHY = ("a bulk modulus below oil's, a transducer lag at the measurement model's ceiling, "
+       "chamber volumes grown beyond the drawing's in every chamber, "
        "or a value pushed to a bound far from the file's")   # what :func:`limits` restrains, in words
 
 
@@ -70,6 +72,25 @@ def limits(ctx: Context, estimates: dict[str, float], bounds: dict[str, tuple[fl
         if name in bounds and v > 0 and v0 > 0 and max(v / v0, v0 / v) > MAX_FAR:
             lo, hi = bounds[name]
             out[name] = (max(lo, v0 / MAX_FAR), min(hi, v0 * MAX_FAR))
+    return out
+
+
+def grown_volumes(found: list[dict], bounds: dict[str, tuple[float, float]]) -> dict[str, tuple[float, float]]:
+    """name → restrained bounds for the chamber volumes behind a fluid-compliance finding
+    (:func:`findings.fluid_compliance_excess`: every chamber ×``EXCESS`` or more of the
+    drawing's): up to ``EXCESS`` × the file's value, what a drawing's tolerance allows. Grown
+    volumes are a constant, pressure-independent compliance in every chamber; free air softens
+    with falling pressure, a hose adds its volume behind an inertance and a resistance. From the
+    restrained base the catalogue's air and line candidates say which (each must beat the free
+    base, grown volumes included, like every restrained test)."""
+    out = {}
+    for f in found:
+        if f.get("finding") != EXCESS_FINDING:
+            continue
+        for q in f["parameters"]:
+            if q["name"] in bounds:
+                lo, hi = bounds[q["name"]]
+                out[q["name"]] = (lo, max(lo, min(hi, EXCESS * q["file_value"])))
     return out
 
 

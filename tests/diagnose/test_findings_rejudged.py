@@ -35,7 +35,8 @@ def _rule(su, stage, judged):
     return findings.fluid_compliance_excess(judged, [findings.Chambers("cylinder", VOLS)], lambda vals: (1.0, 0.1))
 
 
-AIR = {"effect": "entrained_air", "component": "cylinder", "source": "base_fit", "validation_gain": 1.0}
+AIR = {"effect": "entrained_air", "component": "cylinder", "source": "base_fit", "validation_gain": 1.0,
+       "finding": "fluid_compliance_excess"}
 STOPS = {"effect": "end_stop", "component": "cylinder", "source": "base_fit"}   # a runaway finding: not re-judged
 DELAY = {"effect": "input_delay", "component": "valve", "source": "candidate"}
 
