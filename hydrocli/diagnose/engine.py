@@ -35,7 +35,7 @@ from ..netlist.model import Netlist
 from ..progress import status
 from . import (accept, augment, baseline, design, findings, locate, nuisance, residuals, restrain, runaway, stats,
                travel, workers)
-from .candidates import BANDS, COMPLIANCES, LAGS, REDUCES_TO, SWITCHING, Candidate, Context, catalogue
+from .candidates import BANDS, COMPLIANCES, LAGS, LAWS, REDUCES_TO, SWITCHING, Candidate, Context, catalogue
 from .equations import equation_errors, measured_states
 from .measurement import sensed_states, with_pressure_sensors
 
@@ -494,7 +494,11 @@ def shortlist(order: list[Candidate], scores: dict, n_fit: int) -> list[Candidat
     linearisation at one probe value, must not decide between them — the fits do. Once one
     compliance is in, the best form of every other significant compliance joins it
     (``COMPLIANCES``); likewise for the lags (``LAGS``: an input delay, a valve play, a slow
-    reading) and a spool's dead bands (``BANDS``: overlap, play)."""
+    reading) and a spool's dead bands (``BANDS``: overlap, play). An effect offered in more
+    than one law (``LAWS``: a leak, laminar or through an orifice) has every significant law
+    fitted once it is shortlisted: which law, like which effect, is for the fits to decide (dev
+    rotary orifice leak across the vane: the laminar law screened first and lost to a valve
+    underlap, whose edge leakage has the orifice's shape)."""
     picked, effects = [], set()
     for c in order:                       # the best FORM of each of the n_fit best effects
         if len(effects) >= n_fit:
@@ -511,6 +515,10 @@ def shortlist(order: list[Candidate], scores: dict, n_fit: int) -> list[Candidat
                 and scores[c.key]["dr2"] >= RIVAL_SHARE * top):
             picked.append(c)
             seen.add(c.equation)
+    for c in order:                       # every significant law of a shortlisted leak
+        if (c.effect in LAWS and c not in picked and c.effect in {p.effect for p in picked}
+                and scores[c.key]["p_value"] < RIVAL_P):
+            picked.append(c)
     for group in GROUPS:
         have = {c.effect for c in picked}
         if group & have:

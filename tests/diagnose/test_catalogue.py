@@ -183,3 +183,22 @@ def test_augmented_document_is_the_machine_its_text_loads(machine):
         assert free(again) == free(aug), c.key
         new = {tuple(p.name.rsplit(".", 1)) for p in c.params}
         assert new <= set(free(aug)), (c.key, new - set(free(aug)))     # the edits took effect
+
+
+@pytest.mark.parametrize("machine", ["luffing_cylinder.yaml", "rotary_drive.yaml"])
+def test_a_leak_is_offered_in_both_laws_from_the_first_round(machine):
+    """A fine clearance leaks laminarly, a worn seal turbulently: both laws of the internal and
+    the external leak are candidates from the start (the file's leak coefficient fixed at 0),
+    each building a machine with its own new parameters free."""
+    net, _ = with_pressure_sensors(load_netlist(MACHINE.parent / machine))
+    model = build_model(net)
+    ctx = Context(net, set(model.free_params), {}, {})
+    cands, _ = catalogue(ctx)
+    for effect in ("internal_leakage", "external_leakage"):
+        forms = [c for c in cands if c.effect == effect and c.variant != "rod_seal"]   # + a single rod's seal
+        assert len(forms) == 2 and forms[1].variant == "orifice", [c.key for c in forms]
+        assert forms[0].variant != "orifice" and len({c.key for c in forms}) == 2
+        assert {p.name for p in forms[0].params}.isdisjoint({p.name for p in forms[1].params})
+        for c in forms:
+            built = build_model(c.build(net))
+            assert all(p.name in built.free_params for p in c.params)

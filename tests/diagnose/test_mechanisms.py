@@ -725,3 +725,21 @@ def test_on_a_mount_the_actuators_friction_rubs_against_the_body():
     assert out.components["load"].ports == net.components["load"].ports
     link = next(c for c in catalogue(ctx)[0] if c.effect == "load_compliance")
     assert link.build(net).components["friction"].ports["b"] == "ground"     # a rod–load link: seals on the piston
+
+
+def test_once_a_leak_is_shortlisted_its_other_significant_law_is_fitted_too():
+    """A leak's laminar and orifice laws are forms of one effect: the best-screening one holds
+    the effect's slot, and the other joins it when its score test is significant (dev rotary
+    orifice leak: the laminar law screened 95 % and lost to a valve underlap; the orifice law,
+    screened lower, was never fitted). Forms of an effect without several laws do not."""
+    from hydrocli.diagnose.engine import shortlist
+    order, scores = _screened(
+        ("overlap", "valve", "valve_overlap", 0.97), ("leak", "continuity", "internal_leakage", 0.95),
+        ("ext", "continuity", "external_leakage", 0.51), ("edges", "valve", "valve_asymmetry", 0.3),
+        ("ratio", "valve", "valve_asymmetry", 0.2), ("leak_orifice", "continuity", "internal_leakage", 0.1))
+    assert [c.key for c in shortlist(order, scores, 3)] == ["overlap", "leak", "ext", "leak_orifice"]
+    scores["leak_orifice"]["p_value"] = 0.2          # not significant: not fitted
+    assert [c.key for c in shortlist(order, scores, 3)] == ["overlap", "leak", "ext"]
+    # the leak not shortlisted: its second law is not added either; a valve asymmetry's second
+    # form is not a law and stays out
+    assert [c.key for c in shortlist(order[3:], scores, 1)] == ["edges"]

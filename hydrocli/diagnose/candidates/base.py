@@ -184,6 +184,10 @@ class Family:
                                                 # delay, a play, a slow reading): likewise
     bands: frozenset[str] = frozenset()         # dead bands of one element (a spool's overlap around
                                                 # centre, its play around the last reversal): likewise
+    laws: frozenset[str] = frozenset()          # effects offered in more than one LAW of one flow
+                                                # (a leak: laminar or orifice): once the effect is
+                                                # shortlisted every significant law is fitted, not
+                                                # only the best-screening one (engine.shortlist)
     reduces_to: tuple[tuple[str, str], ...] = ()  # (richer, simpler): the richer law becomes the
                                                 # simpler one where the data do not exercise what it
                                                 # adds; when the data do not tell them apart the
