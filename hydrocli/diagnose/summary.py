@@ -82,6 +82,10 @@ def console_summary(diag) -> str:
                 lines.append(f"{a['effect'].replace('_', ' ').capitalize()} on '{a['component']}' is present: the base "
                              f"fit found it ({pars}); switching it off costs {a['validation_gain']:.3g} % validation "
                              f"ESR (noise band {a['noise_band']:.3g} %).")
+                if a.get("finding"):      # grown chamber volumes: what they are, and what else they could be
+                    lines.append(f"  {a['description'][0].upper()}{a['description'][1:]}.")
+                    for alt in a.get("alternatives", []):
+                        lines.append(f"  It could also be {alt.replace('_', ' ')}: these data do not tell which.")
                 continue
             o = max(a["esr_validation_before"], key=lambda k: a["esr_validation_before"][k]
                     - a["esr_validation_after"][k])
