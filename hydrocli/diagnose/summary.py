@@ -85,7 +85,7 @@ def console_summary(diag) -> str:
                 if a.get("finding"):      # grown chamber volumes: what they are, and what else they could be
                     lines.append(f"  {a['description'][0].upper()}{a['description'][1:]}.")
                     for alt in a.get("alternatives", []):
-                        lines.append(f"  It could also be {alt.replace('_', ' ')}: these data do not tell which.")
+                        lines.append(f"  It could also be {alt.replace('_', ' ')} (the held-out data do not tell them apart).")
                 continue
             o = max(a["esr_validation_before"], key=lambda k: a["esr_validation_before"][k]
                     - a["esr_validation_after"][k])
