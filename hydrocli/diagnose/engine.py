@@ -799,8 +799,58 @@ def _restrained_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict],
     if rnd.accepted is not None and excess:
         _log(progress, f"  the chambers' grown volumes are explained by {rnd.accepted['effect']} on "
                        f"'{rnd.accepted['component']}': the volume finding gives way to it")
+        file_bounds, _ = _bounds(b.stage.model, b.fit)
+        volumes = {q["name"] for a in excess for q in a["parameters"]}
+        rnd.stage = _released(su, rnd.stage, {n: file_bounds[n] for n in volumes if n in file_bounds}, st, progress,
+                              also_from=free)
+        rnd.accepted.update(esr_train_after=rnd.stage.esr_train, esr_validation_after=rnd.stage.esr_validation)
         return rnd, rest
     return rnd, [_labelled(a, rnd.rows, progress) if a in excess else a for a in accepted]
+
+
+def _released(su: Setup, stage: Stage, bounds: dict[str, tuple[float, float]], st: Settings, progress,
+              also_from: Stage | None = None) -> Stage:
+    """``stage`` re-identified with the restraint on ``bounds``' parameters lifted (back to the
+    file's bounds), kept when it fits the training data better and predicts the held-out data
+    no worse (as :func:`_polish`). The restraint on grown volumes serves the TEST of which
+    compliance they stand for; once that is named, the drawing's volumes are again a tolerance
+    the fit may use (dev lift, distributed hose of seed 29: named from the restrained base, its
+    lumped line leaves validation P1 at 0.089 %, against 0.034 % beside the grown volumes). The
+    fit also starts from ``also_from``'s base values (the free base) with the new effect's
+    values, the better of the two kept: from the restrained values it stays near them (0.087 %)."""
+    if not bounds:
+        return stage
+    net = stage.net
+    for n, lim in bounds.items():
+        net = augment.free(net, n, float(stage.p[stage.model.param_index(n)]), lim)
+    model = build_model(net)
+    starts = [workers.warm_vector(model, stage.model.param_names, stage.p)]
+    if also_from is not None:
+        p0 = starts[0].copy()
+        for n in also_from.free:
+            if n in model.param_names:
+                lo, hi = bounds.get(n, (-np.inf, np.inf))
+                p0[model.param_index(n)] = float(np.clip(also_from.p[also_from.model.param_index(n)], lo, hi))
+        starts.append(p0)
+    _log(progress, "  re-identifying it with the chamber volumes free within the file's bounds again…")
+    res = None
+    for p0 in starts:
+        try:
+            r = baseline.identify(model, su.train, p_start=p0, iterations=st.base_evals,
+                                  progress=_fit_status(progress, "volumes released"))
+        except IdentifyError:
+            continue
+        if res is None or r.cost < res.cost:
+            res = r
+    if res is None or not res.cost < stage.cost:
+        return stage
+    n_eff = residuals.effective_n(stage.model, su.train, stage.Y_train, su.outputs)
+    new = _stage(augment.set_values(net, dict(zip(res.names, res.estimates))), model, res.p, res.cost, res.names,
+                 su.train, su.validate, su.outputs, dict(zip(res.names, baseline.inflated_stderr(res, n_eff))))
+    if residuals.total(new.esr_validation) > residuals.total(stage.esr_validation):
+        return stage
+    _log(progress, f"  volumes released: validation ESR {_fmt(stage.esr_validation)} → {_fmt(new.esr_validation)}")
+    return new
 
 
 def _labelled(finding: dict, rows: list[dict], progress=None) -> dict:

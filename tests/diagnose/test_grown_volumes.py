@@ -6,6 +6,8 @@ from __future__ import annotations
 
 from types import SimpleNamespace
 
+import pytest
+
 from hydrocli.diagnose import engine, findings, restrain
 
 BOUNDS = {"vane.V_1": (1e-6, 1e-3), "vane.V_2": (1e-6, 1e-3), "vane.beta": (5e8, 2.5e9)}
@@ -35,10 +37,16 @@ def _round(monkeypatch, accepted_effect):
     def fake_round(su, stage, accepted, round_, st, pool, located, progress=None, floor=None, withdrawn=frozenset()):
         seen.update(stage=stage, accepted=[a["effect"] for a in accepted], floor=floor)
         acc = None if accepted_effect is None else {"effect": accepted_effect, "component": "valve"}
-        return engine.Round([], accepted=acc)
+        return engine.Round([], accepted=acc, stage="restrained fit")
     monkeypatch.setattr(engine, "round_step", fake_round)
+    monkeypatch.setattr(engine, "_bounds", lambda model, fit: (BOUNDS, set()))
+
+    def fake_released(su, stage, bounds, st, progress, also_from=None):
+        seen["released"], seen["also_from"] = bounds, also_from
+        return SimpleNamespace(esr_train={"P1": 0.2}, esr_validation={"P1": 0.1})
+    monkeypatch.setattr(engine, "_released", fake_released)
     leak = {"effect": "external_leakage", "component": "vane", "source": "base_fit"}
-    b = SimpleNamespace(restrained="restrained base", located={})
+    b = SimpleNamespace(restrained="restrained base", located={}, stage=SimpleNamespace(model=None), fit=None)
     free = "free base"
     said = []
     rnd, carried = engine._restrained_round(None, b, free, [leak, _excess()], engine.Settings(), None, said.append)
@@ -47,16 +55,20 @@ def _round(monkeypatch, accepted_effect):
 
 def test_the_volume_finding_steps_aside_and_gives_way_to_the_candidate_that_beats_the_free_base(monkeypatch):
     seen, rnd, carried, said = _round(monkeypatch, "line_dynamics")
-    # the round runs from the restrained base, against the free base, with air not excluded
+    # the round runs from the restrained base, against the free base, with air not excluded;
+    # once named, the volumes get the file's bounds back and the model is re-identified
+    released = seen.pop("released")
+    assert seen.pop("also_from") == "free base"          # its grown volumes are a start too
     assert seen == {"stage": "restrained base", "accepted": ["external_leakage"], "floor": "free base"}
-    assert rnd.accepted["effect"] == "line_dynamics"
+    assert released == {"vane.V_1": BOUNDS["vane.V_1"], "vane.V_2": BOUNDS["vane.V_2"]}
+    assert rnd.accepted["effect"] == "line_dynamics" and rnd.accepted["esr_validation_after"] == {"P1": 0.1}
     assert [a["effect"] for a in carried] == ["external_leakage"]
     assert any("grown volumes are explained by line_dynamics" in m for m in said)
 
 
 def test_the_volume_finding_stays_when_nothing_beats_the_free_base(monkeypatch):
     seen, rnd, carried, said = _round(monkeypatch, None)
-    assert rnd.accepted is None
+    assert rnd.accepted is None and "released" not in seen
     assert [a["effect"] for a in carried] == ["external_leakage", "entrained_air"]
 
 
@@ -80,3 +92,40 @@ def test_grown_volumes_stay_air_unless_the_training_data_decide_against_it():
         assert engine._labelled(_excess(), _rows(air, line))["effect"] == "entrained_air"
     unfitted = [r for r in _rows(835.0, -1621.0) if r["effect"] != "entrained_air"]
     assert engine._labelled(_excess(), unfitted)["effect"] == "entrained_air"
+
+
+def test_released_volumes_are_kept_only_when_they_fit_better_and_predict_no_worse(monkeypatch):
+    """The restraint served the test; lifted, the re-fit is kept when it lowers the training
+    cost without predicting the held-out data worse (as a polish)."""
+    import numpy as np
+    from pathlib import Path
+    from hydrocli.model.builder import build_model
+    from hydrocli.netlist.loader import load_netlist
+    net = load_netlist(Path(__file__).parents[2] / "machines" / "rotary_drive.yaml")
+    model = build_model(net)
+    stage = SimpleNamespace(net=net, model=model, p=np.array(model.param_vector({})), cost=1.0,
+                            esr_validation={"P1": 1.0}, Y_train=None)
+    name = next(n for n in model.param_names if n.endswith("V_1"))
+    fitted = {}
+
+    def fake_identify(m, train, p_start, iterations, progress):
+        fitted["free"] = name in m.free_params
+        fitted.setdefault("starts", []).append(float(p_start[m.param_index(name)]))
+        return SimpleNamespace(cost=fitted["cost"], names=[name], estimates=[2e-4], p=p_start)
+    monkeypatch.setattr(engine.baseline, "identify", fake_identify)
+    monkeypatch.setattr(engine.baseline, "inflated_stderr", lambda res, n: np.zeros(1))
+    monkeypatch.setattr(engine.residuals, "effective_n", lambda *a: 1000.0)
+    monkeypatch.setattr(engine, "_stage", lambda *a, **k: SimpleNamespace(esr_validation={"P1": fitted["val"]}))
+    su = SimpleNamespace(train=None, validate=None, outputs=None)
+    for cost, val, kept in ((0.5, 0.8, True), (0.5, 1.2, False), (1.5, 0.8, False)):
+        fitted.update(cost=cost, val=val)
+        out = engine._released(su, stage, {name: (1e-6, 1e-3)}, engine.Settings(), None)
+        assert fitted["free"] and (out is not stage) == kept
+    assert engine._released(su, stage, {}, engine.Settings(), None) is stage
+    # from the free base too: its grown volume (within the file's bounds) is the second start
+    grown = stage.p.copy()
+    grown[model.param_index(name)] = 5e-4
+    free = SimpleNamespace(model=model, p=grown, free=[name])
+    fitted.update(cost=0.5, val=0.8, starts=[])
+    engine._released(su, stage, {name: (1e-6, 1e-3)}, engine.Settings(), None, also_from=free)
+    assert fitted["starts"] == [pytest.approx(stage.p[model.param_index(name)]), pytest.approx(5e-4)]

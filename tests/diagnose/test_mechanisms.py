@@ -743,3 +743,27 @@ def test_once_a_leak_is_shortlisted_its_other_significant_law_is_fitted_too():
     # the leak not shortlisted: its second law is not added either; a valve asymmetry's second
     # form is not a law and stays out
     assert [c.key for c in shortlist(order[3:], scores, 1)] == ["edges"]
+
+
+@pytest.mark.parametrize("machine", ["luffing_cylinder.yaml", "rotary_drive.yaml"])
+def test_an_accepted_compliance_is_offered_again_as_a_progressive_spring(machine, tmp_path):
+    """Once a rod–load link or a mount is in the model, its spring is offered again with a
+    hardening (k·(1 + h·F²), the cubic bushing's first order) as a form of the same effect: not
+    before (the spring is not there), sized by the actuator's force at 50 bar."""
+    from hydrocli.diagnose import augment as A
+    net, _ = with_pressure_sensors(load_netlist(ROOT / "machines" / machine))
+    ctx = Context(net, set(build_model(net).free_params), {}, {})
+    cands = catalogue(ctx)[0]
+    assert not [c for c in cands if c.variant == "progressive"]
+    for effect in ("load_compliance", "structural_flexibility"):
+        linear = next(c for c in cands if c.effect == effect)
+        net2 = linear.build(net)
+        net2 = load_netlist_text(A.text_of(net2), str(tmp_path / "with.yaml"))
+        ctx2 = Context(net2, set(build_model(net2).free_params), {}, {})
+        prog = [c for c in catalogue(ctx2)[0] if c.effect == effect and c.variant == "progressive"]
+        assert len(prog) == 1 and prog[0].component == linear.component
+        h = prog[0].params[0]
+        assert h.name.endswith(("_coupling.h", "_mount.h")) and h.log and h.start < 1e-4 * h.probe
+        f50 = ctx.size(next(iter(ctx.parts(R.ACTUATOR)))) * 5e6
+        assert h.plausible == pytest.approx((1e-2 / f50 ** 2, 1e2 / f50 ** 2))
+        assert h.name in build_model(prog[0].build(net2)).free_params

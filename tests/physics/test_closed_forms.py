@@ -121,6 +121,36 @@ components:
     assert np.max(np.abs(col(mdl, tr, "n.x") - ref)) < 1e-4 * F / k * 2
 
 
+@pytest.mark.parametrize("rotary", [False, True])
+def test_a_hardening_spring_settles_where_its_force_law_puts_it(rotary):
+    """dF/dt = k·(1 + h·F²)·v, so the deflection under a force F is
+    ∫₀^F dF'/(k(1 + h·F'²)) = arctan(√h·F)/(k·√h) (linear limit F/k); the same law for a
+    torsion shaft. A constant force on a damped mass settles there."""
+    k, h, F = 800.0, 4e-3, 25.0                     # h·F² = 2.5: the stiffness 3.5× at the end
+    if rotary:
+        body = f"body: {{type: inertia, ports: {{r: n}}, J: 2.0, tau_const: {F}}}"
+        spring = f"spring: {{type: shaft, ports: {{a: n, b: ground}}, k: {k}, h: {h}}}"
+        damper = "damper: {type: rotary_damper, ports: {a: n, b: ground}, b: 200.0}"
+        pos = "n.theta"
+    else:
+        body = f"body: {{type: mass, ports: {{m: n}}, m: 2.0, F_const: {F}}}"
+        spring = f"spring: {{type: spring, ports: {{a: n, b: ground}}, k: {k}, h: {h}}}"
+        damper = "damper: {type: damper, ports: {a: n, b: ground}, c: 200.0}"
+        pos = "n.x"
+    text = f"""
+name: hardening
+components:
+  {body}
+  {spring}
+  {damper}
+"""
+    mdl, tr, _ = run(text, 6.0, n=601)
+    x = col(mdl, tr, pos)
+    settled = math.atan(math.sqrt(h) * F) / (k * math.sqrt(h))
+    assert x[-1] == pytest.approx(settled, rel=1e-4)
+    assert settled < 0.7 * F / k                     # well away from the linear spring's F/k (0.64)
+
+
 def test_volume_continuity_flow_source():
     """∫q dt = (V/β)·Δp for a volume fed by a time-varying flow source."""
     V = 2e-4

@@ -35,11 +35,14 @@ class Mass(Component):
 
 @register
 class Spring(Component):
-    """Linear spring between a and b; its force is a state: dF/dt = k·(v_a − v_b)
-    (the through variable of an inductive element, linear-graph convention)."""
+    """Spring between a and b; its force is a state: dF/dt = k·(1 + h·F²)·(v_a − v_b)
+    (the through variable of an inductive element, linear-graph convention). Linear with the
+    hardening ``h`` = 0 (default); h > 0 stiffens it with the force it carries — a rubber
+    bushing or a clevis that firms up under load, whose tangent stiffness k + 3k₃d² of
+    F = k·d + k₃·d³ is, to first order in k₃, k·(1 + h·F²) with h = 3k₃/k³."""
 
     type = "spring"
-    roles = (role(RL.SPRING, {"a": "a", "b": "b"}, stiffness="k"),)
+    roles = (role(RL.SPRING, {"a": "a", "b": "b"}, stiffness="k", hardening="h"),)
     family = "mechanical"
     description = "Linear spring (force as state)"
     source = "linear-graph inductive element (seed 002 §3); seed 000 eq. 2"
@@ -47,13 +50,16 @@ class Spring(Component):
     parameters = (
         Param("k", "N/m", 1e5, "stiffness", positive=True, bounds=(1.0, 1e10)),
         Param("F0", "N", 0.0, "initial tension force (+ pulls a toward b)"),
+        Param("h", "1/N^2", 0.0, "hardening: the stiffness is k·(1 + h·F²) (0: linear)", min=0.0),
     )
-    states = (StateSpec("dF", "N", "tension change since t0, k·∫(v_a − v_b)dt", nominal=100.0),)
+    states = (StateSpec("dF", "N", "tension change since t0, ∫k(F)·(v_a − v_b)dt", nominal=100.0),)
     variables = (VariableSpec("F", "N", "spring tension F0 + dF"),)
 
     def equations(self, c):
-        c.der("dF", c.p.k * across_drop(c))
-        branch(c, "F", c.p.F0 + c.state("dF"))
+        f = c.p.F0 + c.state("dF")
+        k = c.p.k * (1.0 + c.p.h * f * f) if c.active("h") else c.p.k
+        c.der("dF", k * across_drop(c))
+        branch(c, "F", f)
 
 
 @register

@@ -38,10 +38,11 @@ class Inertia(Component):
 class Shaft(Component):
     """Torsion spring-damper between a and b: τ = k_s(θ_a − θ_b) + b_s(ω_a − ω_b), the spring
     torque a state, dτ_k/dt = k_s(ω_a − ω_b) (seed 001 eqs. 14–15; k_s = 8.9e4 lb·in/rad
-    measured, §4.2.2)."""
+    measured, §4.2.2). A hardening ``h`` > 0 (default 0: linear) stiffens it with the torque it
+    carries, dτ_k/dt = k_s·(1 + h·τ_k²)(ω_a − ω_b) (a progressive coupling; see ``spring``)."""
 
     type = "shaft"
-    roles = (role(RL.SPRING, {"a": "a", "b": "b"}, stiffness="k"),)
+    roles = (role(RL.SPRING, {"a": "a", "b": "b"}, stiffness="k", hardening="h"),)
     family = "rotational"
     description = "Torsion spring-damper shaft (spring torque as state)"
     source = "seed 001 eqs. 14–15, eq. 19"
@@ -50,6 +51,7 @@ class Shaft(Component):
         Param("k", "N*m/rad", 1.0056e4, "torsional stiffness k_s (8.9e4 lb·in/rad)", source="seed 001 §4.2.2",
               positive=True, bounds=(1.0, 1e9)),
         Param("b", "N*m*s/rad", 0.0, "shaft damping b_s", min=0.0, bounds=(0.0, 1e5)),
+        Param("h", "1/(N*m)^2", 0.0, "hardening: the stiffness is k_s·(1 + h·τ_k²) (0: linear)", min=0.0),
     )
     states = (StateSpec("tau_k", "N*m", "spring torque k_s(θ_a − θ_b)", nominal=10.0),)
     variables = (VariableSpec("tau", "N*m", "transmitted torque"),)
@@ -57,7 +59,8 @@ class Shaft(Component):
     def equations(self, c):
         dw = across_drop(c)
         tk = c.state("tau_k")
-        c.der("tau_k", c.p.k * dw)
+        k = c.p.k * (1.0 + c.p.h * tk * tk) if c.active("h") else c.p.k
+        c.der("tau_k", k * dw)
         branch(c, "tau", tk + (c.p.b * dw if c.active("b") else 0.0))
 
 

@@ -33,6 +33,9 @@ class MechanicsFamily(Family):
             dom = ctx.domain(node)
             loads = ctx.parts_on(node, R.LOAD)
             m = _inertia(ctx, loads[0]) if loads else None
+            out += [self._hardening(ctx, act, effect, name, dom) for effect, name in
+                    (("load_compliance", f"{act.name}_coupling"), ("structural_flexibility", f"{act.name}_mount"))
+                    if name in ctx.net.components]
             if not loads:
                 out.append(Skipped("load_compliance", f"no load (mass or inertia) on the moving node '{node}' of '{act.name}'"))
                 out.append(Skipped("payload_swing", f"no load on the moving node '{node}' of '{act.name}'"))
@@ -171,6 +174,26 @@ class MechanicsFamily(Family):
         return Candidate("structural_flexibility", act.name, params,
                          build, "force", f"compliant mounting of the body of '{act.name}' (motion measured by "
                                          "the actuator's own transducer, relative to the body)")
+
+
+    @staticmethod
+    def _hardening(ctx: Context, act: Part, effect: str, spring: str, dom: Domain) -> Candidate:
+        """The compliance already in the model (``spring``, added by this family's candidate in
+        an earlier round) made progressive: its stiffness k·(1 + h·F²) grows with the force it
+        carries — a rubber bushing, a clevis or a coupling that firms up under load (the cubic
+        F = k·d + k₃·d³ to first order, h = 3k₃/k³). Offered once the linear one is in (a form
+        of the accepted effect, as a worn-seal orifice on top of a laminar leak); h is sized by
+        the actuator's force at 50 bar, F₅₀: plausible from h·F₅₀² = 0.01 (1 % stiffer there)
+        to 100."""
+        _, srole = ctx.element(R.SPRING, dom)
+        f50 = ctx.size(act) * 5e6
+        name = f"{spring}.{srole.param('hardening')}"
+        params = [NewParam(name, 1e-6 / f50 ** 2, (1e-8 / f50 ** 2, 1e3 / f50 ** 2), (1e-2 / f50 ** 2, 1e2 / f50 ** 2),
+                           1.0 / f50 ** 2, True)]
+        what = "rod–load coupling" if effect == "load_compliance" else "mount"
+        return Candidate(effect, act.name, params, lambda net: A.free_new(net, params), "force",
+                         f"the {what} of '{act.name}' stiffens with the force it carries (progressive "
+                         "spring, k·(1 + h·F²))", variant="progressive")
 
 
 def _probe_stiffness(mass: float) -> float:
