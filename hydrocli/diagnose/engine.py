@@ -827,10 +827,9 @@ def _released(su: Setup, stage: Stage, bounds: dict[str, tuple[float, float]], s
     starts = [workers.warm_vector(model, stage.model.param_names, stage.p)]
     if also_from is not None:
         p0 = starts[0].copy()
-        for n in also_from.free:
+        for n in also_from.free:      # outside the model's bounds the fit's transform clips it
             if n in model.param_names:
-                lo, hi = bounds.get(n, (-np.inf, np.inf))
-                p0[model.param_index(n)] = float(np.clip(also_from.p[also_from.model.param_index(n)], lo, hi))
+                p0[model.param_index(n)] = float(also_from.p[also_from.model.param_index(n)])
         starts.append(p0)
     _log(progress, "  re-identifying it with the chamber volumes free within the file's bounds again…")
     res = None

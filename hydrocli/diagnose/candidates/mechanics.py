@@ -20,6 +20,9 @@ from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 G = 9.81
 PROBE_HZ = 25.0   # Hz: the mode a compliance candidate's screening probe puts its mass in
+# the spring each compliance adds, named ``<actuator>_<suffix>``: found again by that name when
+# it is offered as a progressive spring in a later round (MechanicsFamily._hardening)
+SPRING_OF = {"load_compliance": "coupling", "structural_flexibility": "mount"}
 
 
 class MechanicsFamily(Family):
@@ -33,9 +36,8 @@ class MechanicsFamily(Family):
             dom = ctx.domain(node)
             loads = ctx.parts_on(node, R.LOAD)
             m = _inertia(ctx, loads[0]) if loads else None
-            out += [self._hardening(ctx, act, effect, name, dom) for effect, name in
-                    (("load_compliance", f"{act.name}_coupling"), ("structural_flexibility", f"{act.name}_mount"))
-                    if name in ctx.net.components]
+            out += [self._hardening(ctx, act, effect, f"{act.name}_{suffix}", dom)
+                    for effect, suffix in SPRING_OF.items() if f"{act.name}_{suffix}" in ctx.net.components]
             if not loads:
                 out.append(Skipped("load_compliance", f"no load (mass or inertia) on the moving node '{node}' of '{act.name}'"))
                 out.append(Skipped("payload_swing", f"no load on the moving node '{node}' of '{act.name}'"))
@@ -51,7 +53,7 @@ class MechanicsFamily(Family):
     @staticmethod
     def _compliance(ctx: Context, act: Part, rod: str, dom: Domain, m: float):
         load = A.unique_name(ctx.net, f"{rod}_load")
-        spring, damper, rodm = (A.unique_name(ctx.net, f"{act.name}_{s}") for s in ("coupling", "coupling_damper", "rod_mass"))
+        spring, damper, rodm = (A.unique_name(ctx.net, f"{act.name}_{s}") for s in (SPRING_OF["load_compliance"], "coupling_damper", "rod_mass"))
         keep = {f.name for f in ctx.parts_on(rod, R.FRICTION)} | {act.name}
         ltype, lrole = ctx.element(R.LOAD, dom)
         stype, srole = ctx.element(R.SPRING, dom)
@@ -122,7 +124,7 @@ class MechanicsFamily(Family):
             return Skipped("structural_flexibility", f"the body of '{act.name}' is not fixed to ground")
         frame = A.unique_name(ctx.net, f"{act.name}_frame")
         rod = act.node("motion")
-        fm, sp, dm = (A.unique_name(ctx.net, f"{act.name}_{s}") for s in ("frame_mass", "mount", "mount_damper"))
+        fm, sp, dm = (A.unique_name(ctx.net, f"{act.name}_{s}") for s in ("frame_mass", SPRING_OF["structural_flexibility"], "mount_damper"))
         ltype, lrole = ctx.element(R.LOAD, dom)
         stype, srole = ctx.element(R.SPRING, dom)
         dtype, drole = ctx.element(R.DAMPER, dom)
