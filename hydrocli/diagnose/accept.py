@@ -75,7 +75,7 @@ def need(val0: float, noise: float, later: bool = False, first_gain: float | Non
 
 def indistinct(val0: float, noise: float) -> float:
     """The summed-ESR difference below which two fitted candidates are not told apart by the
-    data (``engine._separated``, ``engine._simplest``): the whole noise floor (or ``MIN_REL`` of
+    data (``ranking.separated``, ``ranking.simplest``): the whole noise floor (or ``MIN_REL`` of
     the error above it when larger). Passing says an effect is there; naming one of two
     explanations that both passed, against the training data's verdict that they fit alike,
     takes a difference in prediction an engineer would see beside the noise."""
@@ -157,6 +157,6 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
     # which holds where the likelihood is far from quadratic (an air amount trading against a
     # free bulk modulus: ±56 % by the linearisation, ΔBIC −15 879). A candidate that fails on
     # precision alone is "imprecise": not accepted on its own merit, but the round may still
-    # prefer it (engine._dominant) over a precise one it beats on both tests
+    # prefer it (ranking.dominant) over a precise one it beats on both tests
     return {"delta_bic": dbic, "validation_gain": gain, "noise_band": need_, "passed": not (reasons + imprecise),
             "reasons": reasons + imprecise, "imprecise": bool(imprecise) and not reasons}

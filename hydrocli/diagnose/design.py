@@ -206,7 +206,7 @@ def _compared(ma, mb, noise_sigma: dict[str, float]) -> list[str]:
 def _discrimination(ma, ya, mb, yb, noise_sigma: dict[str, float]) -> tuple[float, dict, dict, float]:
     """Σ_o N·(RMS(ŷ_a − ŷ_b)/σ_o)², per output the RMS difference (SI) and RMS/σ, and the ESR
     gap Σ_o 100·mean((ŷ_a − ŷ_b)²)/var(ŷ_a): how much worse than ``a`` model ``b`` would score
-    on the test if ``a`` were right — the measure the diagnosis decides on (engine._separated)."""
+    on the test if ``a`` were right — the measure the diagnosis decides on (ranking.separated)."""
     diff, z, score, gap = {}, {}, 0.0, 0.0
     for o in _compared(ma, mb, noise_sigma):
         s = noise_sigma[o]

@@ -88,7 +88,7 @@ def test_an_imprecise_candidate_is_preferred_only_when_it_beats_every_precise_on
     The likelihood-ratio test (ΔBIC) says the air is there; the Wald test says only that its
     amount is uncertain."""
     from types import SimpleNamespace
-    from hydrocli.diagnose.engine import _dominant
+    from hydrocli.diagnose.ranking import dominant as _dominant
     air, hose, leak = (SimpleNamespace(key=k) for k in ("air", "hose", "leak"))
     rows = {"air": {"validation_gain": 0.88}, "hose": {"validation_gain": 0.53}, "leak": {"validation_gain": 0.95}}
     assert _dominant([(-15879, air, {})], [(-1027, hose, {})], rows)[1] is air

@@ -40,7 +40,7 @@ def case(tmp_path_factory):
 def test_air_against_a_compliance_is_ambiguous_and_the_pressure_level_test_decides(case, tmp_path, only):
     from experiments.family.record import record
     from hydrocli.diagnose import Settings, diagnose
-    from hydrocli.diagnose.engine import ALTERNATIVE
+    from hydrocli.diagnose.ranking import ALTERNATIVE
     from hydrocli.diagnose.summary import write_proposals
 
     d1 = diagnose(case / "base.yaml", [case / "train.csv"], [case / "validate.csv"], Settings(jobs=2, only=only))

@@ -1,4 +1,4 @@
-"""Backward elimination (engine._backward): once a second effect is in, the first must still
+"""Backward elimination (backward.backward): once a second effect is in, the first must still
 pass the presence test against the model with the second only; the greedy first round's
 stand-in is withdrawn when it no longer does."""
 from __future__ import annotations
@@ -8,7 +8,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from hydrocli.diagnose import accept, engine
+from hydrocli.diagnose import accept, backward, engine
 
 N_EFF = 2000.0
 NOISE = {"P1": 0.1, "v": 0.1}
@@ -36,7 +36,7 @@ def _run(monkeypatch, without_cost, without_val, full=(1.00, 0.40), effects=(("s
         calls.append([c.key for c in keep])
         return _stage(without_cost, without_val)
 
-    monkeypatch.setattr(engine, "_without", fake_without)
+    monkeypatch.setattr(backward, "without", fake_without)
     monkeypatch.setattr(engine.residuals, "effective_n", lambda *a, **k: N_EFF)
     su = SimpleNamespace(noise_total=sum(NOISE.values()), train=None, outputs=None)
     b = SimpleNamespace(stage=SimpleNamespace(net=None))
@@ -45,7 +45,7 @@ def _run(monkeypatch, without_cost, without_val, full=(1.00, 0.40), effects=(("s
     base_found = {"effect": "external_leakage", "component": "cylinder", "source": "base_fit"}
     built = {first["key"]: SimpleNamespace(key=first["key"], params=[1, 2]),
              second["key"]: SimpleNamespace(key=second["key"], params=[1])}
-    stage, accepted, gone = engine._backward(su, b, _stage(*full), [base_found, first, second], built,
+    stage, accepted, gone = backward.backward(su, b, _stage(*full), [base_found, first, second], built,
                                              engine.Settings(), None)
     return stage, accepted, gone, calls, first, second, base_found
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from hydrocli.components.hydraulic.fluid import effective_bulk_modulus
-from hydrocli.diagnose import engine, findings
+from hydrocli.diagnose import base_findings, engine, findings, stage as stage_of
 from hydrocli.diagnose.candidates import Context, catalogue
 from hydrocli.diagnose.candidates.leakage import AIR_MAX
 from hydrocli.netlist.loader import load_netlist
@@ -42,17 +42,17 @@ DELAY = {"effect": "input_delay", "component": "valve", "source": "candidate"}
 
 
 def test_a_base_fit_finding_is_withdrawn_when_the_final_model_no_longer_needs_it(monkeypatch):
-    monkeypatch.setattr(engine, "_base_fit_findings", _rule)
+    monkeypatch.setattr(base_findings, "base_fit_findings", _rule)
     b = SimpleNamespace(judged=_judged((8.6e-4, 1.3e-3)))
     assert _rule(None, None, b.judged)                       # the base fit: both chambers ×4.3, ×2.1 → air
     # the delay accepted, the polished model puts the volumes back near the drawing (×1.15, ×0.9)
-    kept = engine._still_found(None, b, _final((2.3e-4, 5.4e-4)), [AIR, STOPS, DELAY])
+    kept = base_findings.still_found(None, b, _final((2.3e-4, 5.4e-4)), [AIR, STOPS, DELAY])
     assert kept == [STOPS, DELAY]
     # still ×2 in both chambers, well determined: the finding stands beside the delay
-    kept = engine._still_found(None, b, _final((4.0e-4, 1.2e-3)), [AIR, STOPS, DELAY])
+    kept = base_findings.still_found(None, b, _final((4.0e-4, 1.2e-3)), [AIR, STOPS, DELAY])
     assert kept == [AIR, STOPS, DELAY]
     # ×2, but the final fit no longer determines them (3 σ): withdrawn
-    kept = engine._still_found(None, b, _final((4.0e-4, 1.2e-3), se=2e-4), [AIR, DELAY])
+    kept = base_findings.still_found(None, b, _final((4.0e-4, 1.2e-3), se=2e-4), [AIR, DELAY])
     assert kept == [DELAY]
 
 
@@ -91,20 +91,20 @@ def test_volume_one_side_needs_beyond_the_drawing_is_a_hose_named_after_the_cand
     ×1.7–3.1, V_B0 ×1.0–1.4) and explains the held-out data to the noise, so no line candidate
     can gain on it. The grown volume IS the finding — but only after the candidates: a rod–load
     link on a gravity load grows V_A0 too (dev ×2.6) and takes it back once modelled."""
-    monkeypatch.setattr(engine, "_base_fit_findings", _late_rule)
+    monkeypatch.setattr(base_findings, "base_fit_findings", _late_rule)
     base = SimpleNamespace(p=None)
     b = SimpleNamespace(judged=_judged((6.1e-4, 6.6e-4)), stage=base)     # V_A0 ×3.05, V_B0 ×1.1
     assert _late_rule(None, None, b.judged) == []                        # not air: one chamber only
-    late = engine._late_findings(None, b, base, [])
+    late = base_findings.late_findings(None, b, base, [])
     assert [(f["effect"], f["source"]) for f in late] == [("line_dynamics", "base_fit")]
     assert [p["name"] for p in late[0]["parameters"]] == ["cylinder.V_A0"]
     assert late[0]["alternatives"] == ["entrained_air"]
     # a candidate took the volume back to the drawing's: the final model shows no hose
-    assert engine._late_findings(None, b, _final((2.2e-4, 6.1e-4)), [LIFT]) == []
+    assert base_findings.late_findings(None, b, _final((2.2e-4, 6.1e-4)), [LIFT]) == []
     # the final model still needs it beside the candidate: listed after it
-    assert [f["effect"] for f in engine._late_findings(None, b, _final((6.0e-4, 6.1e-4)), [LIFT])] == ["line_dynamics"]
+    assert [f["effect"] for f in base_findings.late_findings(None, b, _final((6.0e-4, 6.1e-4)), [LIFT])] == ["line_dynamics"]
     # a line (on the valve that feeds the cylinder) or air already accepted explains the volume
-    assert engine._late_findings(None, b, _final((6.0e-4, 6.1e-4)), [LIFT, HOSE]) == []
+    assert base_findings.late_findings(None, b, _final((6.0e-4, 6.1e-4)), [LIFT, HOSE]) == []
     # both chambers grown is the air rule's; poorly determined is nothing
     assert findings.undrawn_volume(_judged((6e-4, 1.8e-3)), [findings.Chambers("cylinder", VOLS)],
                                    lambda v: (1.0, 0.1)) == []
@@ -116,7 +116,7 @@ def test_volume_one_side_needs_beyond_the_drawing_is_a_hose_named_after_the_cand
 
 
 def test_a_finding_reports_the_held_out_error_without_it_and_with_it():
-    """The real wiring (engine._base_fit_findings on the short demo lift): pretend the drawing
+    """The real wiring (base_findings.base_fit_findings on the short demo lift): pretend the drawing
     says a third of the bore-side volume the recording needs. The late rule finds the hose,
     and the finding carries the held-out ESR with V_A0 back at the drawing's (before) and as
     fitted (after), like a candidate does — the benchmark's gap is measured from 'before'."""
@@ -124,11 +124,11 @@ def test_a_finding_reports_the_held_out_error_without_it_and_with_it():
     su = engine.prepare(case / "base.yaml", [case / "train.csv"], [case / "validate.csv"], engine.Settings())
     m = su.model
     p = np.array(m.p0, float)
-    stage = engine._stage(su.net, m, p, 1.0, list(m.free_params), su.train, su.validate, su.outputs)
+    stage = stage_of.make_stage(su.net, m, p, 1.0, list(m.free_params), su.train, su.validate, su.outputs)
     va, vb = (float(p[m.param_index(n)]) for n in VOLS)
     judged = [{"name": VOLS[0], "value": va, "initial": va / 3, "stderr": va * 1e-3},
               {"name": VOLS[1], "value": vb, "initial": vb, "stderr": vb * 1e-3}]
-    found = engine._base_fit_findings(su, stage, judged, late=True)
+    found = base_findings.base_fit_findings(su, stage, judged, late=True)
     assert [(f["effect"], f["source"]) for f in found] == [("line_dynamics", "base_fit")]
     f = found[0]
     assert f["esr_validation_after"] == stage.esr_validation
@@ -136,4 +136,4 @@ def test_a_finding_reports_the_held_out_error_without_it_and_with_it():
     assert before - after == pytest.approx(f["validation_gain"], rel=1e-9) and before > after
     # the volume as drawn: nothing found
     judged[0]["initial"] = va
-    assert engine._base_fit_findings(su, stage, judged, late=True) == []
+    assert base_findings.base_fit_findings(su, stage, judged, late=True) == []

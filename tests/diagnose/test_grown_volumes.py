@@ -8,7 +8,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from hydrocli.diagnose import engine, findings, restrain
+from hydrocli.diagnose import base_findings, engine, findings, restrain, restrained
 
 BOUNDS = {"vane.V_1": (1e-6, 1e-3), "vane.V_2": (1e-6, 1e-3), "vane.beta": (5e8, 2.5e9)}
 
@@ -44,7 +44,7 @@ def _round(monkeypatch, accepted_effect):
     def fake_released(su, stage, bounds, st, progress, also_from=None):
         seen["released"], seen["also_from"] = bounds, also_from
         return SimpleNamespace(esr_train={"P1": 0.2}, esr_validation={"P1": 0.1})
-    monkeypatch.setattr(engine, "_released", fake_released)
+    monkeypatch.setattr(restrained, "released", fake_released)
     leak = {"effect": "external_leakage", "component": "vane", "source": "base_fit"}
     b = SimpleNamespace(restrained="restrained base", located={}, stage=SimpleNamespace(model=None), fit=None)
     free = "free base"
@@ -81,17 +81,17 @@ def _rows(air, line):
 def test_grown_volumes_are_named_a_hose_when_only_the_hose_beats_them_on_the_training_data():
     """Held-out data at the noise cannot tell air from a hose; the training data can: from the
     drawn volumes the hose fits better than the grown volumes and air does not."""
-    f = engine._labelled(_excess(), _rows(air=835.0, line=-1621.0))
+    f = restrained.labelled(_excess(), _rows(air=835.0, line=-1621.0))
     assert f["effect"] == "line_dynamics" and f["alternatives"] == ["entrained_air"]
     assert f["finding"] == findings.EXCESS_FINDING and "ΔBIC -1621" in f["description"]
-    assert engine._finding_key(f) == (findings.EXCESS_FINDING, "vane")      # re-judged as what it is
+    assert base_findings.finding_key(f) == (findings.EXCESS_FINDING, "vane")      # re-judged as what it is
 
 
 def test_grown_volumes_stay_air_unless_the_training_data_decide_against_it():
     for air, line in ((-500.0, -1500.0), (835.0, 20.0), (-10.0, 400.0)):
-        assert engine._labelled(_excess(), _rows(air, line))["effect"] == "entrained_air"
+        assert restrained.labelled(_excess(), _rows(air, line))["effect"] == "entrained_air"
     unfitted = [r for r in _rows(835.0, -1621.0) if r["effect"] != "entrained_air"]
-    assert engine._labelled(_excess(), unfitted)["effect"] == "entrained_air"
+    assert restrained.labelled(_excess(), unfitted)["effect"] == "entrained_air"
 
 
 def test_released_volumes_are_kept_only_when_they_fit_better_and_predict_no_worse(monkeypatch):
@@ -115,17 +115,17 @@ def test_released_volumes_are_kept_only_when_they_fit_better_and_predict_no_wors
     monkeypatch.setattr(engine.baseline, "identify", fake_identify)
     monkeypatch.setattr(engine.baseline, "inflated_stderr", lambda res, n: np.zeros(1))
     monkeypatch.setattr(engine.residuals, "effective_n", lambda *a: 1000.0)
-    monkeypatch.setattr(engine, "_stage", lambda *a, **k: SimpleNamespace(esr_validation={"P1": fitted["val"]}))
+    monkeypatch.setattr(restrained, "make_stage", lambda *a, **k: SimpleNamespace(esr_validation={"P1": fitted["val"]}))
     su = SimpleNamespace(train=None, validate=None, outputs=None)
     for cost, val, kept in ((0.5, 0.8, True), (0.5, 1.2, False), (1.5, 0.8, False)):
         fitted.update(cost=cost, val=val)
-        out = engine._released(su, stage, {name: (1e-6, 1e-3)}, engine.Settings(), None)
+        out = restrained.released(su, stage, {name: (1e-6, 1e-3)}, engine.Settings(), None)
         assert fitted["free"] and (out is not stage) == kept
-    assert engine._released(su, stage, {}, engine.Settings(), None) is stage
+    assert restrained.released(su, stage, {}, engine.Settings(), None) is stage
     # from the free base too: its grown volume (within the file's bounds) is the second start
     grown = stage.p.copy()
     grown[model.param_index(name)] = 5e-4
     free = SimpleNamespace(model=model, p=grown, free=[name])
     fitted.update(cost=0.5, val=0.8, starts=[])
-    engine._released(su, stage, {name: (1e-6, 1e-3)}, engine.Settings(), None, also_from=free)
+    restrained.released(su, stage, {name: (1e-6, 1e-3)}, engine.Settings(), None, also_from=free)
     assert fitted["starts"] == [pytest.approx(stage.p[model.param_index(name)]), pytest.approx(5e-4)]

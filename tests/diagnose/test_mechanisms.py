@@ -175,7 +175,7 @@ def test_discriminating_design_separates_two_models_and_loads(tmp_path):
 
 
 def test_shortlist_adds_the_best_competing_candidate_of_each_other_balance():
-    from hydrocli.diagnose.engine import shortlist
+    from hydrocli.diagnose.shortlist import shortlist
     C = lambda key, eq: SimpleNamespace(key=key, equation=eq, effect=key)
     order = [C("mount", "force"), C("hyst", "valve"), C("lag", "measurement"), C("delay", "signal"),
              C("air", "continuity"), C("leak", "continuity"), C("stop", "force")]
@@ -201,7 +201,7 @@ def _screened(*rows):
 
 
 def test_once_a_compliance_is_shortlisted_every_significant_other_compliance_is_fitted():
-    from hydrocli.diagnose.engine import shortlist
+    from hydrocli.diagnose.shortlist import shortlist
     order, scores = _screened(
         ("lag", "measurement", "sensor_lag", 0.13), ("delay", "signal", "input_delay", 0.12),
         ("mount", "force", "structural_flexibility", 0.061), ("link", "force", "load_compliance", 0.029),
@@ -217,7 +217,7 @@ def test_once_a_lag_is_shortlisted_every_significant_other_lag_is_fitted():
     """A delay, a valve play and a slow transducer all retard the response; a score at one
     probe value ranks them poorly (dev EHA Dahl hysteresis: the delay screened 21 %, the play
     was not fitted). Once one is in, the others that are significant are fitted too."""
-    from hydrocli.diagnose.engine import shortlist
+    from hydrocli.diagnose.shortlist import shortlist
     order, scores = _screened(
         ("delay", "signal", "input_delay", 0.21), ("mount", "force", "structural_flexibility", 0.042),
         ("leak", "continuity", "internal_leakage", 0.03), ("overlap", "valve", "valve_overlap", 0.02),
@@ -238,6 +238,7 @@ def test_effect_traits_are_declared_by_the_family_that_models_the_effect():
     """Issue 11: the engine reads which effects switch and which are compliances from the
     families (a new candidate module declares its own), never from a list of names of its own."""
     import hydrocli.diagnose.engine as engine
+    import hydrocli.diagnose.shortlist as shortlist
     from hydrocli.diagnose.candidates import BANDS, COMPLIANCES, FAMILIES, LAGS, SWITCHING, VOCABULARY
     for f in FAMILIES:
         assert f.switching | f.compliances | f.lags | f.bands <= set(f.effects), type(f).__name__
@@ -247,10 +248,10 @@ def test_effect_traits_are_declared_by_the_family_that_models_the_effect():
     assert {"entrained_air", "line_dynamics", "load_compliance", "structural_flexibility"} == COMPLIANCES
     assert not COMPLIANCES & SWITCHING
     # the three ways a response is retarded without a new compliance: a delay, a play, a slow reading
-    assert engine.LAGS is LAGS and {"input_delay", "valve_hysteresis", "sensor_lag"} == LAGS
+    assert shortlist.LAGS is LAGS and {"input_delay", "valve_hysteresis", "sensor_lag"} == LAGS
     assert not LAGS & COMPLIANCES
     # a spool's two dead bands: around centre (overlap) and around the last reversal (play)
-    assert engine.BANDS is BANDS and {"valve_overlap", "valve_hysteresis"} == BANDS
+    assert shortlist.BANDS is BANDS and {"valve_overlap", "valve_hysteresis"} == BANDS
 
 
 def test_a_rod_load_link_starts_at_rest_under_its_load_and_carries_joint_friction():
@@ -320,7 +321,7 @@ def test_actuator_areas_are_nuisance_within_their_tolerance():
 
 
 def test_near_ties_on_training_bic_are_decided_by_held_out_data():
-    from hydrocli.diagnose.engine import _rank_passing
+    from hydrocli.diagnose.ranking import rank_passing as _rank_passing
     seal = (-9955.0, SimpleNamespace(effect="pressure_dependent_friction"), {"esr_validation": {"P1": 0.50, "v": 0.26}})
     coul = (-9803.0, SimpleNamespace(effect="coulomb_friction"), {"esr_validation": {"P1": 0.32, "v": 0.33}})
     far = (-3000.0, SimpleNamespace(effect="valve_overlap"), {"esr_validation": {"P1": 0.10, "v": 0.10}})
@@ -332,7 +333,7 @@ def test_a_richer_law_the_data_do_not_separate_from_its_special_case_gives_way_t
     """Seal friction fitted a hair better than Coulomb friction (the concealed Coulomb case's
     figures): not separated by the noise band, the simpler law is named; separated on one
     training experiment, or a pair neither of which reduces to the other, the order stands."""
-    from hydrocli.diagnose.engine import _simplest
+    from hydrocli.diagnose.ranking import simplest as _simplest
     seal = (-1106.0, SimpleNamespace(effect="pressure_dependent_friction"),
             {"esr_validation": {"P1": 0.700, "v": 0.708}, "esr_train_each": [0.90]})
     coul = (-1102.0, SimpleNamespace(effect="coulomb_friction"),
@@ -402,7 +403,7 @@ def test_a_restrained_base_that_cannot_be_simulated_falls_back_to_the_free_base(
     """When no simulation of the restrained base succeeds (dev lift end stop: β raised to
     oil's against a stop the file lacks), the diagnosis goes on from the free base instead of
     failing the whole case."""
-    from hydrocli.diagnose import engine
+    from hydrocli.diagnose import engine, restrained
     from hydrocli.errors import IdentifyError, Problem
     net = load_netlist(ROOT / "machines" / "eha_testbench.yaml")
     model = build_model(net)
@@ -414,7 +415,7 @@ def test_a_restrained_base_that_cannot_be_simulated_falls_back_to_the_free_base(
     said = []
     su = SimpleNamespace(train=[], validate=[], outputs=[])
     lim = {"cylinder.beta": (1.0e9, 2.5e9)}
-    assert engine._restrained(su, base, lim, engine.Settings(), said.append) is None
+    assert restrained.restrained_base(su, base, lim, engine.Settings(), said.append) is None
     assert any("cannot be simulated" in m for m in said)
 
 
@@ -732,7 +733,7 @@ def test_once_a_leak_is_shortlisted_its_other_significant_law_is_fitted_too():
     the effect's slot, and the other joins it when its score test is significant (dev rotary
     orifice leak: the laminar law screened 95 % and lost to a valve underlap; the orifice law,
     screened lower, was never fitted). Forms of an effect without several laws do not."""
-    from hydrocli.diagnose.engine import shortlist
+    from hydrocli.diagnose.shortlist import shortlist
     order, scores = _screened(
         ("overlap", "valve", "valve_overlap", 0.97), ("leak", "continuity", "internal_leakage", 0.95),
         ("ext", "continuity", "external_leakage", 0.51), ("edges", "valve", "valve_asymmetry", 0.3),

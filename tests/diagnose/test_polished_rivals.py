@@ -66,7 +66,7 @@ def test_separated_on_held_out_data_after_polishing_is_not_ambiguous(monkeypatch
 
 def test_still_alike_after_polishing_the_special_case_is_named(monkeypatch):
     """A seal friction μ·A·(p_A + p_B) at a constant supply is a Coulomb force with one
-    dependence more (engine._simplest): polished and still not told apart, the special case
+    dependence more (ranking.simplest): polished and still not told apart, the special case
     is named and the richer law stays the rival (the project's concealed Coulomb case)."""
     seal, coulomb = _cand("pressure_dependent_friction", 2), _cand("coulomb_friction", 2)
 

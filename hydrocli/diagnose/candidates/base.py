@@ -191,7 +191,7 @@ class Family:
     reduces_to: tuple[tuple[str, str], ...] = ()  # (richer, simpler): the richer law becomes the
                                                 # simpler one where the data do not exercise what it
                                                 # adds; when the data do not tell them apart the
-                                                # simpler one is named (engine._simplest)
+                                                # simpler one is named (ranking.simplest)
 
     def candidates(self, ctx: Context) -> list[Candidate]:  # pragma: no cover - abstract
         raise NotImplementedError

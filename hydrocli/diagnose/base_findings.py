@@ -1,0 +1,86 @@
+"""The base fit's own findings (:mod:`.findings`): judged on the base fit, judged again on the
+final model (a value that stood in for an effect a candidate then modelled is withdrawn),
+and the late ones the final model's fit still shows."""
+from __future__ import annotations
+
+from dataclasses import replace
+
+from ..components import roles as R
+from . import accept, findings, residuals
+from .candidates import catalogue
+from .stage import Baseline, Setup, Stage, context, log
+
+def base_fit_findings(su: Setup, stage: Stage, judged: list[dict], late: bool = False) -> list[dict]:
+    """Effects whose parameter the file already has free from "off" and the fit moved, and
+    entrained air the fit put into the chambers' volumes (:mod:`.findings`), judged on
+    ``stage`` (the base fit, or the final model: :func:`still_found`). ``late``: instead the
+    findings judged only on the final model, after the candidates (:func:`late_findings`)."""
+    ctx = replace(context(su, stage), net=su.net, free=set())
+    val = residuals.total(stage.esr_validation)
+    model = stage.model
+
+    tables = {}
+
+    def gain_at(values: dict[str, float]):
+        Y = residuals.simulate_outputs(model, su.validate, model.param_vector(values, base=stage.p))
+        tables[frozenset(values)] = residuals.esr_table(model, su.validate, Y, su.outputs)
+        off_total = residuals.total(tables[frozenset(values)])
+        return off_total - val, accept.need(off_total, su.noise_total, selected=False)
+    chambers = [findings.Chambers(a.name, tuple(a.params("dead_volumes"))) for a in ctx.parts(R.ACTUATOR)]
+    if late:
+        found = findings.undrawn_volume(judged, chambers, gain_at)
+    else:
+        offs = findings.off_values(catalogue(ctx)[0])
+        found = (findings.base_fit_findings(judged, offs, lambda names: gain_at({n: offs[n].ref for n in names}))
+                 + findings.fluid_compliance_excess(judged, chambers, gain_at))
+    for f in found:
+        # like a candidate's: the held-out ESR without the finding (its parameters back at the
+        # file's values) and with it, the model the base fit (or the final one) is
+        f["esr_validation_before"] = tables.get(frozenset(q["name"] for q in f["parameters"]), {})
+        f["esr_validation_after"] = dict(stage.esr_validation)
+    return found
+
+
+def still_found(su: Setup, b: Baseline, final: Stage, accepted: list[dict], progress=None) -> list[dict]:
+    """The base fit's findings (:func:`base_fit_findings`) judged again, by the same rules, on
+    the final model. A base-fit value may stand in for an effect a candidate then modelled:
+    chamber volumes grown ×4 to mimic a delayed command go back to the drawing's once the
+    delay is in (dev EHA input delay: V_A0 ×4.3 → ×1.15). The finding is kept only while
+    the final model still needs it; a finding that lets the base model run at all (stops at
+    the recorded ends, :mod:`.runaway`) is not re-judged."""
+    again = {finding_key(f) for f in base_fit_findings(su, final, judged_on(b, final))}
+    keep = []
+    for a in accepted:
+        if a.get("source") == "base_fit" and "validation_gain" in a and finding_key(a) not in again:
+            log(progress, f"  the base fit's {a['effect']} on '{a['component']}' is withdrawn: the final model "
+                           "no longer needs it (it stood in for an effect the candidates then modelled)")
+            continue
+        keep.append(a)
+    return keep
+
+
+def finding_key(f: dict) -> tuple[str, str]:
+    """What a base-fit finding is, whatever it was named (:func:`labelled`): its kind (grown
+    volumes) or its effect (a parameter moved from "off"), and where."""
+    return f.get("finding", f["effect"]), f["component"]
+
+
+def judged_on(b: Baseline, final: Stage) -> list[dict]:
+    """The base fit's parameter rows with the final model's values and standard errors."""
+    return [dict(j, value=float(final.p[final.model.param_index(j["name"])]), stderr=final.stderr[j["name"]])
+            for j in b.judged if j["name"] in final.stderr and j["name"] in final.model.param_names]
+
+
+def late_findings(su: Setup, b: Baseline, final: Stage, accepted: list[dict], progress=None) -> list[dict]:
+    """Findings the final model's own fit still shows once the candidates had their chance
+    (:func:`findings.undrawn_volume`): listed after them, never in place of one, and not when an
+    accepted effect already adds fluid compliance (a line on the valve that feeds it, air)."""
+    judged = b.judged if final is b.stage else judged_on(b, final)
+    if {a["effect"] for a in accepted} & {"line_dynamics", "entrained_air"}:
+        return []
+    out = []
+    for f in base_fit_findings(su, final, judged, late=True):
+        log(progress, f"  the fit found {f['effect']} on '{f['component']}' (validation gain "
+                       f"{f['validation_gain']:.3g} % > {f['noise_band']:.3g} %)")
+        out.append(f)
+    return out
