@@ -71,16 +71,55 @@ def judged_on(b: Baseline, final: Stage) -> list[dict]:
             for j in b.judged if j["name"] in final.stderr and j["name"] in final.model.param_names]
 
 
-def late_findings(su: Setup, b: Baseline, final: Stage, accepted: list[dict], progress=None) -> list[dict]:
+def late_findings(su: Setup, b: Baseline, final: Stage, accepted: list[dict], progress=None,
+                  rows: list[dict] = ()) -> list[dict]:
     """Findings the final model's own fit still shows once the candidates had their chance
     (:func:`findings.undrawn_volume`): listed after them, never in place of one, and not when an
-    accepted effect already adds fluid compliance (a line on the valve that feeds it, air)."""
+    accepted effect already adds fluid compliance (a line on the valve that feeds it, air).
+    ``rows``: the last round's candidate rows, fitted on top of ``final`` (the model WITH the
+    grown volume); they name the finding's reading (:func:`labelled`)."""
     judged = b.judged if final is b.stage else judged_on(b, final)
     if {a["effect"] for a in accepted} & {"line_dynamics", "entrained_air"}:
         return []
     out = []
     for f in base_fit_findings(su, final, judged, late=True):
+        f = labelled(f, list(rows), progress, basis=ON_TOP)
         log(progress, f"  the fit found {f['effect']} on '{f['component']}' (validation gain "
                        f"{f['validation_gain']:.3g} % > {f['noise_band']:.3g} %)")
         out.append(f)
     return out
+
+
+FROM_DRAWING = ("from the drawn volumes", "fits the training data better than the grown volumes")
+ON_TOP = ("on top of the grown volume", "improves the training fit")
+
+
+def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, str] = FROM_DRAWING) -> dict:
+    """A fluid-compliance finding named by what the training data say of its two readings.
+    Grown volumes are a constant, pressure-independent compliance; free air softens with
+    falling pressure, a hose adds its volume behind an inertance and a resistance. Each
+    reading was fitted as a candidate (``rows``: its ΔBIC), either from the drawn volumes
+    against the grown ones (``FROM_DRAWING``: the excess in every chamber,
+    :func:`findings.fluid_compliance_excess`) or on top of the grown volume (``ON_TOP``: the
+    one-sided excess found last, :func:`findings.undrawn_volume`). When held-out data cannot
+    tell them apart (the grown volumes already predict to the noise, so no candidate passes),
+    the form still can: the finding is named after its alternative when that one improves the
+    training fit (ΔBIC < 0) and the finding's own effect does not. Dev rotary hose, single
+    T-section, from the drawn volumes: line ΔBIC −1621, air +835 (the finding had said air).
+    Dev rotary polytropic air (seed 34), one chamber ×1.55: on top of it air −1424, a line +66
+    (the finding had said line: the softening at low pressure is what the volume lacks)."""
+    def best(effect):
+        fitted = [r for r in rows if r["effect"] == effect and r.get("fitted") and r.get("delta_bic") is not None]
+        return min((r["delta_bic"] for r in fitted), default=None)
+    own = best(finding["effect"])
+    where, better = basis
+    for alt in finding.get("alternatives", []):
+        d_alt = best(alt)
+        if own is not None and d_alt is not None and d_alt < 0 <= own:
+            log(progress, f"  the grown volumes are {alt} rather than {finding['effect']}: {where} "
+                          f"{alt} {better} (ΔBIC {d_alt:+.0f}), {finding['effect']} does not ({own:+.0f})")
+            others = [e for e in finding["alternatives"] if e != alt]
+            return dict(finding, effect=alt, alternatives=[finding["effect"], *others],
+                        description=finding["description"] + f"; named {alt}: {where} it {better} "
+                                    f"(ΔBIC {d_alt:+.0f}), {finding['effect']} does not ({own:+.0f})")
+    return finding

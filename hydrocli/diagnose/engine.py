@@ -438,6 +438,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
     b = baseline_step(su, st, progress, run)
     stage, accepted, rows, skipped, history, ambiguous = b.stage, list(b.found), [], [], [], []
     built, withdrawn = {}, []      # the accepted candidates by key; the effects withdrawn since
+    last = []                      # the rows of a round that accepted nothing: fitted on top of the final model
     parallel = st.jobs > 1 or st.scheduler
     with (executor(st.jobs, st.scheduler) if parallel else nullcontext(None)) as pool:
         for round_ in range(st.max_effects):
@@ -460,6 +461,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
             if rnd.ambiguous:
                 ambiguous.append(rnd.ambiguous)
             if rnd.accepted is None:
+                last = rnd.rows
                 break
             accepted.append(rnd.accepted)
             built[rnd.accepted["key"]] = rnd.candidate
@@ -469,7 +471,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
             withdrawn += out
     if stage is not b.stage:
         accepted = base_findings.still_found(su, b, stage, accepted, progress)
-    accepted = accepted + base_findings.late_findings(su, b, stage, accepted, progress)
+    accepted = accepted + base_findings.late_findings(su, b, stage, accepted, progress, last)
     data = conclude(su, b, stage, accepted, rows, skipped, train_paths, validate_paths, t_start)
     if withdrawn:
         data["withdrawn"] = [{k: v for k, v in w.items() if k != "key"} for w in withdrawn]
@@ -497,7 +499,7 @@ def _restrained_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict],
                               also_from=free)
         rnd.accepted.update(esr_train_after=rnd.stage.esr_train, esr_validation_after=rnd.stage.esr_validation)
         return rnd, rest
-    return rnd, [restrained.labelled(a, rnd.rows, progress) if a in excess else a for a in accepted]
+    return rnd, [base_findings.labelled(a, rnd.rows, progress) if a in excess else a for a in accepted]
 
 
 def _param(judged, name):

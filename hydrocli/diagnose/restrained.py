@@ -1,6 +1,5 @@
 """The base with implausible values restrained (:mod:`.restrain`), the restraint on grown
-chamber volumes lifted again once the compliance they stood for is named, and a grown-volume
-finding named by what the training data say of its two readings."""
+chamber volumes lifted again once the compliance they stood for is named."""
 from __future__ import annotations
 
 from ..errors import IdentifyError
@@ -77,31 +76,3 @@ def released(su: Setup, stage: Stage, bounds: dict[str, tuple[float, float]], st
         return stage
     log(progress, f"  volumes released: validation ESR {fmt_esr(stage.esr_validation)} → {fmt_esr(new.esr_validation)}")
     return new
-
-
-def labelled(finding: dict, rows: list[dict], progress=None) -> dict:
-    """A fluid-compliance finding named by what the training data say of its two readings.
-    Grown volumes are a constant compliance in every chamber; from the restrained base (the
-    drawn volumes) each reading was fitted as a candidate and compared with the grown volumes
-    (``rows``: its ΔBIC against the free base). When held-out data cannot tell them apart (the
-    grown volumes already predict to the noise, so no candidate passes), the form still can:
-    free air softens with falling pressure, a hose adds its volume behind an inertance. The
-    finding is named after its alternative when that one beats the grown volumes on the
-    training data and the finding's own effect does not (dev rotary hose, single T-section:
-    line ΔBIC −1621, air +835 against the grown volumes; the finding had said air)."""
-    def best(effect):
-        fitted = [r for r in rows if r["effect"] == effect and r.get("fitted") and r.get("delta_bic") is not None]
-        return min((r["delta_bic"] for r in fitted), default=None)
-    own = best(finding["effect"])
-    for alt in finding.get("alternatives", []):
-        d_alt = best(alt)
-        if own is not None and d_alt is not None and d_alt < 0 <= own:
-            log(progress, f"  the grown volumes are {alt} rather than {finding['effect']}: from the drawn volumes "
-                           f"{alt} fits the training data better than the grown volumes (ΔBIC {d_alt:+.0f}), "
-                           f"{finding['effect']} does not ({own:+.0f})")
-            others = [e for e in finding["alternatives"] if e != alt]
-            return dict(finding, effect=alt, alternatives=[finding["effect"], *others],
-                        description=finding["description"] + f"; named {alt}: from the drawn volumes it fits the "
-                                    f"training data better than the grown volumes (ΔBIC {d_alt:+.0f}), "
-                                    f"{finding['effect']} does not ({own:+.0f})")
-    return finding

@@ -115,6 +115,32 @@ def test_volume_one_side_needs_beyond_the_drawing_is_a_hose_named_after_the_cand
                                    lambda v: (0.05, 0.1)) == []
 
 
+
+def _row(effect, dbic):
+    return {"effect": effect, "component": "cylinder", "fitted": True, "delta_bic": dbic}
+
+
+def test_a_one_sided_volume_is_named_by_what_improves_on_it_in_the_last_round(monkeypatch):
+    """The late finding is a constant extra compliance on one side. The last round fitted each
+    reading ON TOP of it: air's stiffness softens with falling pressure, a hose adds an
+    inertance and a loss. When air improves the training fit there (dev rotary polytropic air:
+    −1424) and the line does not (+66), the volume lacks air's pressure dependence and the
+    finding is named entrained_air, with the hose as its alternative; a hose that improves on it
+    keeps the hose's name (dev lift hoses: line −731 … −3335, air +10 … +29)."""
+    monkeypatch.setattr(base_findings, "base_fit_findings", _late_rule)
+    base = SimpleNamespace(p=None)
+    b = SimpleNamespace(judged=_judged((6.1e-4, 6.6e-4)), stage=base)
+    air = base_findings.late_findings(None, b, base, [], rows=[_row("entrained_air", -1424.0),
+                                                                _row("line_dynamics", 66.0)])
+    assert [(f["effect"], f["alternatives"], f["finding"]) for f in air] == [
+        ("entrained_air", ["line_dynamics"], "undrawn_volume")]
+    assert "on top of the grown volume" in air[0]["description"]
+    for rows in ([_row("entrained_air", 29.0), _row("line_dynamics", -731.0)],
+                 [_row("entrained_air", -51.0), _row("line_dynamics", -3335.0)],   # both improve: its own name
+                 [_row("entrained_air", -1424.0)],                                 # the line not fitted: no verdict
+                 []):
+        assert [f["effect"] for f in base_findings.late_findings(None, b, base, [], rows=rows)] == ["line_dynamics"]
+
 def test_a_finding_reports_the_held_out_error_without_it_and_with_it():
     """The real wiring (base_findings.base_fit_findings on the short demo lift): pretend the drawing
     says a third of the bore-side volume the recording needs. The late rule finds the hose,

@@ -81,7 +81,7 @@ def _rows(air, line):
 def test_grown_volumes_are_named_a_hose_when_only_the_hose_beats_them_on_the_training_data():
     """Held-out data at the noise cannot tell air from a hose; the training data can: from the
     drawn volumes the hose fits better than the grown volumes and air does not."""
-    f = restrained.labelled(_excess(), _rows(air=835.0, line=-1621.0))
+    f = base_findings.labelled(_excess(), _rows(air=835.0, line=-1621.0))
     assert f["effect"] == "line_dynamics" and f["alternatives"] == ["entrained_air"]
     assert f["finding"] == findings.EXCESS_FINDING and "ΔBIC -1621" in f["description"]
     assert base_findings.finding_key(f) == (findings.EXCESS_FINDING, "vane")      # re-judged as what it is
@@ -89,9 +89,9 @@ def test_grown_volumes_are_named_a_hose_when_only_the_hose_beats_them_on_the_tra
 
 def test_grown_volumes_stay_air_unless_the_training_data_decide_against_it():
     for air, line in ((-500.0, -1500.0), (835.0, 20.0), (-10.0, 400.0)):
-        assert restrained.labelled(_excess(), _rows(air, line))["effect"] == "entrained_air"
+        assert base_findings.labelled(_excess(), _rows(air, line))["effect"] == "entrained_air"
     unfitted = [r for r in _rows(835.0, -1621.0) if r["effect"] != "entrained_air"]
-    assert restrained.labelled(_excess(), unfitted)["effect"] == "entrained_air"
+    assert base_findings.labelled(_excess(), unfitted)["effect"] == "entrained_air"
 
 
 def test_released_volumes_are_kept_only_when_they_fit_better_and_predict_no_worse(monkeypatch):

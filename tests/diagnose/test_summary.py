@@ -42,7 +42,7 @@ def test_summary_says_which_earlier_effect_a_later_one_made_redundant():
 
 
 def test_summary_says_what_grown_volumes_are_and_what_else_they_could_be():
-    from hydrocli.diagnose import restrained
+    from hydrocli.diagnose import base_findings
     found = {"effect": "entrained_air", "component": "vane", "source": "base_fit", "finding": "fluid_compliance_excess",
              "parameters": [{"name": "vane.V_1", "value": 1.3e-4, "stderr": 2e-6, "file_value": 6e-5}],
              "validation_gain": 1.99, "noise_band": 0.3, "alternatives": ["line_dynamics"],
@@ -50,7 +50,7 @@ def test_summary_says_what_grown_volumes_are_and_what_else_they_could_be():
     rows = [{"effect": "entrained_air", "fitted": True, "delta_bic": 835.0},
             {"effect": "line_dynamics", "fitted": True, "delta_bic": -1621.0}]
     d = _diag([])
-    d.data["accepted"] = [restrained.labelled(found, rows)]
+    d.data["accepted"] = [base_findings.labelled(found, rows)]
     text = console_summary(d)
     assert "Line dynamics on 'vane' is present: the base fit found it (vane.V_1 = 0.00013" in text
     assert "named line_dynamics: from the drawn volumes it fits the training data better" in text
