@@ -77,8 +77,8 @@ def limits(ctx: Context, estimates: dict[str, float], bounds: dict[str, tuple[fl
 
 def grown_volumes(found: list[dict], bounds: dict[str, tuple[float, float]]) -> dict[str, tuple[float, float]]:
     """name → restrained bounds for the chamber volumes behind a fluid-compliance finding
-    (:func:`findings.fluid_compliance_excess`: every chamber ×``EXCESS`` or more of the
-    drawing's): up to ``EXCESS`` × the file's value, what a drawing's tolerance allows. Grown
+    (:func:`findings.fluid_compliance_excess`: every chamber grown alike, one ×``EXCESS`` or
+    more of the drawing's): up to ``EXCESS`` × the file's value, what a drawing's tolerance allows. Grown
     volumes are a constant, pressure-independent compliance in every chamber; free air softens
     with falling pressure, a hose adds its volume behind an inertance and a resistance. From the
     restrained base the catalogue's air and line candidates say which (each must beat the free

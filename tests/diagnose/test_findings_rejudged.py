@@ -163,3 +163,24 @@ def test_a_finding_reports_the_held_out_error_without_it_and_with_it():
     # the volume as drawn: nothing found
     judged[0]["initial"] = va
     assert base_findings.base_fit_findings(su, stage, judged, late=True) == []
+
+
+def test_chambers_grown_alike_are_every_chamber_a_one_sided_growth_is_one_side():
+    """Free air softens every chamber, a hose grows the side it feeds: 'every chamber' is
+    read against the largest growth, not chamber by chamber against the ×1.5 cut. Dev rotary
+    isothermal air grew the chambers ×1.57 and ×1.49: every chamber (air first, the hose its
+    alternative), no longer a one-sided volume named a hose. A one-sided hose leaves the other
+    chamber at ×1.0–1.4 of a ×1.7–5 growth (dev lifts): one side. Nothing grows ×1.5: nothing."""
+    ch = [findings.Chambers("cylinder", VOLS)]
+    gain = lambda vals: (1.0, 0.1)                                            # noqa: E731
+    air = _judged((2.0e-4 * 1.57, 6.0e-4 * 1.49))
+    assert findings.grown_alike(air)
+    assert [f["effect"] for f in findings.fluid_compliance_excess(air, ch, gain)] == ["entrained_air"]
+    assert findings.undrawn_volume(air, ch, gain) == []
+    for other in (1.0, 1.22, 1.4):                                          # a ×2.9 hose, the other side near the drawing
+        hose = _judged((2.0e-4 * 2.92, 6.0e-4 * other))
+        assert not findings.grown_alike(hose)
+        assert findings.fluid_compliance_excess(hose, ch, gain) == []
+        assert [f["effect"] for f in findings.undrawn_volume(hose, ch, gain)] == ["line_dynamics"]
+    assert not findings.grown_alike(_judged((2.0e-4 * 1.45, 6.0e-4 * 1.45)))   # both below the cut
+    assert not findings.grown_alike(_judged((2.0e-4 * 1.6, 6.0e-4 * 1.5), se=1e-4))   # not determined
