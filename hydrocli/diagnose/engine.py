@@ -139,10 +139,12 @@ def _bounds(model, res) -> tuple[dict[str, tuple[float, float]], set[str]]:
 
 # -- step 3 -------------------------------------------------------------------------------
 def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: Settings, pool,
-               located: dict, progress=None, floor: Stage | None = None, withdrawn: frozenset = frozenset()) -> Round:
+               located: dict, progress=None, floor: Stage | None = None, withdrawn: frozenset = frozenset(),
+               readings: frozenset = frozenset()) -> Round:
     """One round from ``stage``. ``floor``: a model every candidate must beat as well — the
     free base when ``stage`` is the restrained one (:mod:`.restrain`). ``withdrawn``: keys of
-    candidates accepted earlier and withdrawn since (:func:`backward`), not offered again."""
+    candidates accepted earlier and withdrawn since (:func:`backward`), not offered again.
+    ``readings``: effects fitted whatever they screen (:func:`shortlist`)."""
     train, validate, outputs = su.train, su.validate, su.outputs
     cands, skipped = catalogue(context(su, stage))
     done = {a["key"] for a in accepted if "key" in a} | set(withdrawn)
@@ -176,7 +178,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     remaining = [c for c in order if scores[c.key]["error"] is None]
     fits, base_ref, grad, passing, judged, imprecise = {}, {}, {}, [], {}, []
     for wave in range(1 + EXTRA_WAVES):
-        best = shortlist(remaining, scores, n_fit)
+        best = shortlist(remaining, scores, n_fit, readings)
         if not best:
             break
         log(progress, ("  best: " if wave == 0 else "  next: ")
@@ -489,7 +491,10 @@ def _restrained_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict],
     gives way when one wins. Returns (the round, the accepted list to carry on)."""
     excess = [a for a in accepted if a.get("finding") == findings.EXCESS_FINDING]
     rest = [a for a in accepted if a not in excess]
-    rnd = round_step(su, b.restrained, rest, 0, st, pool, b.located, progress, floor=free)
+    # the finding's readings (air, a hose) are fitted whatever they screen: the grown volumes
+    # leave them nothing to screen for, and base_findings.labelled names the finding by their fits
+    readings = frozenset(e for a in excess for e in (a["effect"], *a.get("alternatives", [])))
+    rnd = round_step(su, b.restrained, rest, 0, st, pool, b.located, progress, floor=free, readings=readings)
     if rnd.accepted is not None and excess:
         log(progress, f"  the chambers' grown volumes are explained by {rnd.accepted['effect']} on "
                        f"'{rnd.accepted['component']}': the volume finding gives way to it")

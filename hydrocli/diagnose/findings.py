@@ -122,7 +122,8 @@ def fluid_compliance_excess(judged: list[dict], actuators: list[Chambers], gain_
 
 def undrawn_volume(judged: list[dict], actuators: list[Chambers], gain_of) -> list[dict]:
     """Fluid volume the drawing leaves out on ONE side: the base fit needs ``EXCESS`` × or more
-    of the drawn volume, well determined, in some but not every chamber of an actuator. A
+    of the drawn volume, well determined, in some chamber of an actuator, but the chambers are
+    not grown alike (:func:`grown_alike`). A
     chamber's volume at the reference position is a drawing dimension; what the oil between the
     valve and that chamber adds beyond it is the hose or pipe on that side (its volume is what a
     line does at the frequencies a commissioning test excites; its inertance and resistance come

@@ -22,7 +22,7 @@ RIVAL_SHARE = 1 / 3  # … and explains at least a third of what the top candida
 GROUPS = (COMPLIANCES, LAGS, BANDS)
 
 
-def shortlist(order: list[Candidate], scores: dict, n_fit: int) -> list[Candidate]:
+def shortlist(order: list[Candidate], scores: dict, n_fit: int, readings: frozenset = frozenset()) -> list[Candidate]:
     """The candidates to re-identify: the best-screening form of each of the ``n_fit`` best
     EFFECTS (two forms of one effect must not crowd out a different effect), plus the best candidate of
     measurement) that competes: its score test is significant (p < ``RIVAL_P``) and it explains
@@ -36,13 +36,22 @@ def shortlist(order: list[Candidate], scores: dict, n_fit: int) -> list[Candidat
     than one law (``LAWS``: a leak, laminar or through an orifice) has every significant law
     fitted once it is shortlisted: which law, like which effect, is for the fits to decide (dev
     rotary orifice leak across the vane: the laminar law screened first and lost to a valve
-    underlap, whose edge leakage has the orifice's shape)."""
+    underlap, whose edge leakage has the orifice's shape). ``readings``: effects whose best
+    form is fitted whatever it screens — the readings of a base-fit finding on trial (grown
+    chamber volumes: air or a hose, :func:`base_findings.labelled`), which the grown volumes
+    leave nothing to screen for (dev rotary, air and a distributed hose alike: both screened
+    0.0 %, neither was fitted, and the finding kept its default name)."""
     picked, effects = [], set()
+    for e in sorted(readings):            # a finding's readings: fitted, to be compared
+        c = next((c for c in order if c.effect == e), None)
+        if c is not None:
+            picked.append(c)
     for c in order:                       # the best FORM of each of the n_fit best effects
         if len(effects) >= n_fit:
             break
         if c.effect not in effects:
-            picked.append(c)
+            if c not in picked:
+                picked.append(c)
             effects.add(c.effect)
     if not order:
         return picked

@@ -34,8 +34,9 @@ def test_grown_volumes_are_restrained_to_the_drawings_tolerance_and_nothing_else
 def _round(monkeypatch, accepted_effect):
     seen = {}
 
-    def fake_round(su, stage, accepted, round_, st, pool, located, progress=None, floor=None, withdrawn=frozenset()):
-        seen.update(stage=stage, accepted=[a["effect"] for a in accepted], floor=floor)
+    def fake_round(su, stage, accepted, round_, st, pool, located, progress=None, floor=None, withdrawn=frozenset(),
+                   readings=frozenset()):
+        seen.update(stage=stage, accepted=[a["effect"] for a in accepted], floor=floor, readings=readings)
         acc = None if accepted_effect is None else {"effect": accepted_effect, "component": "valve"}
         return engine.Round([], accepted=acc, stage="restrained fit")
     monkeypatch.setattr(engine, "round_step", fake_round)
@@ -59,6 +60,8 @@ def test_the_volume_finding_steps_aside_and_gives_way_to_the_candidate_that_beat
     # once named, the volumes get the file's bounds back and the model is re-identified
     released = seen.pop("released")
     assert seen.pop("also_from") == "free base"          # its grown volumes are a start too
+    # both readings of the grown volumes are fitted, whatever they screen
+    assert seen.pop("readings") == {"entrained_air", "line_dynamics"}
     assert seen == {"stage": "restrained base", "accepted": ["external_leakage"], "floor": "free base"}
     assert released == {"vane.V_1": BOUNDS["vane.V_1"], "vane.V_2": BOUNDS["vane.V_2"]}
     assert rnd.accepted["effect"] == "line_dynamics" and rnd.accepted["esr_validation_after"] == {"P1": 0.1}
