@@ -7,8 +7,9 @@ from . import accept, augment, baseline, residuals, workers
 from .candidates import Candidate
 from .stage import Baseline, Settings, Setup, Stage, fit_status, log, make_stage
 
+
 def backward(su: Setup, b: Baseline, stage: Stage, accepted: list[dict], built: dict, st: Settings,
-              progress=None) -> tuple[Stage, list[dict], list[dict]]:
+             progress=None) -> tuple[Stage, list[dict], list[dict]]:
     """Backward elimination: once a later effect is in, every earlier one must still pass the
     presence test (:func:`accept.presence`: ΔBIC < 0 and a held-out gain beyond a later
     effect's band) against the model with the others only, re-identified with all its
@@ -28,7 +29,7 @@ def backward(su: Setup, b: Baseline, stage: Stage, accepted: list[dict], built: 
         if a["effect"] == later["effect"] and a["component"] == later["component"]:
             continue
         reduced = without(su, b.stage.net, stage, [built[x["key"]] for x in acc if x is not a], st, progress,
-                           f"{a['effect']} on '{a['component']}' beside {later['effect']}")
+                          f"{a['effect']} on '{a['component']}' beside {later['effect']}")
         if reduced is None:
             continue
         n_eff = residuals.effective_n(reduced.model, su.train, reduced.Y_train, su.outputs)
@@ -38,7 +39,7 @@ def backward(su: Setup, b: Baseline, stage: Stage, accepted: list[dict], built: 
         if not reasons:
             continue
         log(progress, f"  withdrawn {a['effect']} on '{a['component']}': beside {later['effect']} "
-                       f"{'; '.join(reasons)}")
+                      f"{'; '.join(reasons)}")
         i = accepted.index(a)
         rest = accepted[:i] + accepted[i + 1:]
         nxt = next((x for x in rest[i:] if x.get("source") == "candidate"), None)
@@ -53,7 +54,7 @@ def backward(su: Setup, b: Baseline, stage: Stage, accepted: list[dict], built: 
 
 
 def without(su: Setup, base_net: Netlist, stage: Stage, keep: list[Candidate], st: Settings, progress,
-             what: str) -> Stage | None:
+            what: str) -> Stage | None:
     """The base machine with the candidates ``keep`` only, re-identified with every parameter
     free from ``stage``'s values; None when they cannot be built without the one left out (a
     later effect built on its components)."""

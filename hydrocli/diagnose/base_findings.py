@@ -10,6 +10,7 @@ from . import accept, findings, residuals
 from .candidates import catalogue
 from .stage import Baseline, Setup, Stage, context, log
 
+
 def base_fit_findings(su: Setup, stage: Stage, judged: list[dict], late: bool = False) -> list[dict]:
     """Effects whose parameter the file already has free from "off" and the fit moved, and
     entrained air the fit put into the chambers' volumes (:mod:`.findings`), judged on
@@ -53,7 +54,7 @@ def still_found(su: Setup, b: Baseline, final: Stage, accepted: list[dict], prog
     for a in accepted:
         if a.get("source") == "base_fit" and "validation_gain" in a and finding_key(a) not in again:
             log(progress, f"  the base fit's {a['effect']} on '{a['component']}' is withdrawn: the final model "
-                           "no longer needs it (it stood in for an effect the candidates then modelled)")
+                          "no longer needs it (it stood in for an effect the candidates then modelled)")
             continue
         keep.append(a)
     return keep
@@ -85,7 +86,7 @@ def late_findings(su: Setup, b: Baseline, final: Stage, accepted: list[dict], pr
     for f in base_fit_findings(su, final, judged, late=True):
         f = labelled(f, list(rows), progress, basis=ON_TOP)
         log(progress, f"  the fit found {f['effect']} on '{f['component']}' (validation gain "
-                       f"{f['validation_gain']:.3g} % > {f['noise_band']:.3g} %)")
+                      f"{f['validation_gain']:.3g} % > {f['noise_band']:.3g} %)")
         out.append(f)
     return out
 
@@ -116,10 +117,9 @@ def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, s
     for alt in finding.get("alternatives", []):
         d_alt = best(alt)
         if own is not None and d_alt is not None and d_alt < 0 <= own:
-            log(progress, f"  the grown volumes are {alt} rather than {finding['effect']}: {where} "
-                          f"{alt} {better} (ΔBIC {d_alt:+.0f}), {finding['effect']} does not ({own:+.0f})")
+            why = f"{where} {alt} {better} (ΔBIC {d_alt:+.0f}), {finding['effect']} does not ({own:+.0f})"
+            log(progress, f"  the grown volumes are {alt} rather than {finding['effect']}: {why}")
             others = [e for e in finding["alternatives"] if e != alt]
             return dict(finding, effect=alt, alternatives=[finding["effect"], *others],
-                        description=finding["description"] + f"; named {alt}: {where} it {better} "
-                                    f"(ΔBIC {d_alt:+.0f}), {finding['effect']} does not ({own:+.0f})")
+                        description=f"{finding['description']}; named {alt}: {why}")
     return finding

@@ -39,6 +39,7 @@ from .stage import (Baseline, Diagnosis, Round, Settings, Setup, Stage, context,
                     log, make_stage, stops_of)
 
 CONTROL = "control: current model, same budget"
+EXTRA_WAVES = 2     # further shortlists fitted when none passes and the mismatch stays unexplained (round_step)
 
 
 def load_data(model, net, paths):
@@ -79,7 +80,7 @@ def prepare(machine, train_paths, validate_paths, settings: Settings) -> Setup:
     noise = {o: float(np.mean([stats.noise_esr(e.measured[o]) for e in validate if o in e.measured]))
              for o in outputs}
     sigma = {o: float(np.sqrt(noise[o] / 100.0 * np.mean([np.nanvar(e.measured[o]) for e in validate
-                                                            if o in e.measured]))) for o in outputs}
+                                                          if o in e.measured]))) for o in outputs}
     return Setup(str(machine), net, model, sensors, found, train, validate, outputs, noise, sigma,
                  _inputs_start(model, train))
 
@@ -93,19 +94,19 @@ def follow(su: Setup, progress=None) -> tuple[Setup, runaway.Runaway | None]:
     if run is None:
         return su, None
     log(progress, f"the base model cannot simulate the training recordings ({run.failure}); stops placed at the "
-                   f"ends of the recorded travel of '{run.candidate.component}' let it: the base fit starts from them")
+                  f"ends of the recorded travel of '{run.candidate.component}' let it: the base fit starts from them")
     return replace(su, net=run.net, model=run.model), run
 
 
 def baseline_step(su: Setup, st: Settings, progress=None, run: runaway.Runaway | None = None) -> Baseline:
     model, train, validate, outputs = su.model, su.train, su.validate, su.outputs
     log(progress, f"re-identifying the base model ({len(model.free_params)} free parameters) on "
-                   f"{len(train)} training experiment(s)…")
+                  f"{len(train)} training experiment(s)…")
     res0 = baseline.identify(model, train, iterations=st.base_evals, progress=fit_status(progress, "base fit"))
     withdrawn = (workers.withdraw_idle_stops(residuals.objective(model, train), model, res0, stops_of(run.candidate))
                  if run is not None else [])
     base = make_stage(augment.set_values(su.net, dict(zip(res0.names, res0.estimates))), model, res0.p, res0.cost,
-                  res0.names, train, validate, outputs)
+                      res0.names, train, validate, outputs)
     n_eff = residuals.effective_n(model, train, base.Y_train, outputs)
     judged = baseline.judge(model, res0, n_eff)
     log(progress, f"base model: train ESR {fmt_esr(base.esr_train)}; validation ESR {fmt_esr(base.esr_validation)}")
@@ -182,7 +183,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         if not best:
             break
         log(progress, ("  best: " if wave == 0 else "  next: ")
-             + ", ".join(f"{c.key} ({100 * scores[c.key]['dr2']:.1f} %)" for c in best))
+            + ", ".join(f"{c.key} ({100 * scores[c.key]['dr2']:.1f} %)" for c in best))
         grad.update({c.key: st.switching_gradient if c.effect in SWITCHING else "auto" for c in best})
         # one control per gradient in use: each candidate is compared with the current model
         # re-identified with the same budget AND the same Jacobian (a fair comparison)
@@ -239,7 +240,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         row = judged[lead[1].key]
         row.update(passed=True, notes=row.pop("reasons"), reasons=[])
         log(progress, f"  {lead[1].effect} beats every precise candidate on ΔBIC and held-out gain; its size is "
-                       f"poorly determined ({'; '.join(row['notes'])})")
+                      f"poorly determined ({'; '.join(row['notes'])})")
     out.rows.sort(key=lambda d: (not d.get("passed", False), not d.get("fitted", False), -d["score"]))
     if not passing and lead is None:
         log(progress, "  no candidate passes BIC + validation + plausibility")
@@ -275,11 +276,10 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                     **({"size_poorly_determined": row["notes"]} if row.get("notes") else {})}
     out.stage, out.candidate = new, c
     log(progress, f"  accepted {c.effect} on '{c.component}': validation ESR {fmt_esr(before.esr_validation)} "
-                   f"→ {fmt_esr(new.esr_validation)}")
+                  f"→ {fmt_esr(new.esr_validation)}")
     return out
 
 
-EXTRA_WAVES = 2     # further shortlists fitted when none passes and the mismatch stays unexplained (round_step)
 def _drawing(su: Setup) -> dict[str, float]:
     """The machine as drawn: the file's values of the base model's free parameters (measurement
     and nuisance parameters at their typical values), where candidate fits also start."""
@@ -349,8 +349,8 @@ def _decide_polished(su: Setup, stage: Stage, win, rival, texts: dict, n_eff: fl
                       dict(fp, esr_validation=new.esr_validation, p=new.p, param_names=new.model.param_names)))
     first, second = ranking.simplest(ranking.rank_passing(again), band)
     log(progress, f"  polished: {first[1].effect} ΔBIC {first[0]:+.0f}, validation "
-                   f"{residuals.total(first[2]['esr_validation']):.3g} %; {second[1].effect} ΔBIC {second[0]:+.0f}, "
-                   f"validation {residuals.total(second[2]['esr_validation']):.3g} %")
+                  f"{residuals.total(first[2]['esr_validation']):.3g} %; {second[1].effect} ΔBIC {second[0]:+.0f}, "
+                  f"validation {residuals.total(second[2]['esr_validation']):.3g} %")
     still = second[0] <= ALTERNATIVE * first[0] and not ranking.separated(first[2], second[2], band)
     return first, (second if still else None), polished
 
@@ -396,7 +396,7 @@ def _polish(su: Setup, stage: Stage, c: Candidate, text: str, f: dict, n_eff: fl
                                  stderr=baseline.inflated_stderr(pol, n_eff).tolist())
     aug = augment.set_values(aug, {n: p_c[model_c.param_index(n)] for n in free_c})
     return make_stage(aug, model_c, p_c, f["cost"], free_c, su.train, su.validate, su.outputs,
-                  dict(zip(f["names"], f["stderr"]))), f
+                      dict(zip(f["names"], f["stderr"]))), f
 
 
 # -- step 4 -------------------------------------------------------------------------------
@@ -452,7 +452,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                 rows.extend(rnd.rows)
                 if rnd.accepted is None:
                     log(progress, "  nothing beats the free base with the implausible values restrained: "
-                                   "screening from the free base")
+                                  "screening from the free base")
                     rnd = None
             if rnd is None:
                 rnd = round_step(su, stage, accepted, round_, st, pool, b.located, progress,
@@ -497,11 +497,11 @@ def _restrained_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict],
     rnd = round_step(su, b.restrained, rest, 0, st, pool, b.located, progress, floor=free, readings=readings)
     if rnd.accepted is not None and excess:
         log(progress, f"  the chambers' grown volumes are explained by {rnd.accepted['effect']} on "
-                       f"'{rnd.accepted['component']}': the volume finding gives way to it")
+                      f"'{rnd.accepted['component']}': the volume finding gives way to it")
         file_bounds, _ = _bounds(b.stage.model, b.fit)
         volumes = {q["name"] for a in excess for q in a["parameters"]}
         rnd.stage = restrained.released(su, rnd.stage, {n: file_bounds[n] for n in volumes if n in file_bounds}, st, progress,
-                              also_from=free)
+                                        also_from=free)
         rnd.accepted.update(esr_train_after=rnd.stage.esr_train, esr_validation_after=rnd.stage.esr_validation)
         return rnd, rest
     return rnd, [base_findings.labelled(a, rnd.rows, progress) if a in excess else a for a in accepted]
@@ -522,4 +522,3 @@ def _evidence(c, score, where) -> str:
     top = where["regimes"][0]["regime"] if where.get("regimes") else "all regimes"
     return (f"{c.description}: its signature explains {100 * score['dr2']:.1f} % of the remaining output residual "
             f"(score test p = {score['p_value']:.2g}); residual concentrates in '{top}'")
-

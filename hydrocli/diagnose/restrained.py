@@ -7,6 +7,7 @@ from ..model.builder import build_model
 from . import augment, baseline, residuals, restrain, workers
 from .stage import Settings, Setup, Stage, fit_status, fmt_esr, log, make_stage
 
+
 def restrained_base(su: Setup, base: Stage, lim: dict, st: Settings, progress) -> Stage | None:
     """The base re-identified with every implausible value restrained (:mod:`.restrain`);
     None when no simulation of it succeeds."""
@@ -17,8 +18,8 @@ def restrained_base(su: Setup, base: Stage, lim: dict, st: Settings, progress) -
     for n, bounds in lim.items():
         p0[model.param_index(n)] = restrain.start(wanted[n], bounds)
     log(progress, "the base fit's " + ", ".join(f"{n} = {wanted[n]:.4g}" for n in lim)
-         + f" is implausible ({restrain.WHY}): re-identifying with it restrained, to test which missing effect "
-           "it stands for…")
+        + f" is implausible ({restrain.WHY}): re-identifying with it restrained, to test which missing effect "
+          "it stands for…")
     try:
         res = baseline.identify(model, su.train, p_start=p0, iterations=st.base_evals,
                                 progress=fit_status(progress, "restrained base fit"))
@@ -26,16 +27,16 @@ def restrained_base(su: Setup, base: Stage, lim: dict, st: Settings, progress) -
         # the machine cannot be simulated with the values restrained (dev lift end stop: β
         # raised to oil's against a stop the file lacks): nothing to test from there
         log(progress, f"the restrained base cannot be simulated ({exc.problems[0].message}): "
-                       "screening from the free base")
+                      "screening from the free base")
         return None
     stage = make_stage(augment.set_values(net, dict(zip(res.names, res.estimates))), model, res.p, res.cost, res.names,
-                   su.train, su.validate, su.outputs)
+                       su.train, su.validate, su.outputs)
     log(progress, f"restrained base: train ESR {fmt_esr(stage.esr_train)}; validation ESR {fmt_esr(stage.esr_validation)}")
     return stage
 
 
 def released(su: Setup, stage: Stage, bounds: dict[str, tuple[float, float]], st: Settings, progress,
-              also_from: Stage | None = None) -> Stage:
+             also_from: Stage | None = None) -> Stage:
     """``stage`` re-identified with the restraint on ``bounds``' parameters lifted (back to the
     file's bounds), kept when it fits the training data better and predicts the held-out data
     no worse (as :func:`_polish`). The restraint on grown volumes serves the TEST of which
@@ -71,7 +72,7 @@ def released(su: Setup, stage: Stage, bounds: dict[str, tuple[float, float]], st
         return stage
     n_eff = residuals.effective_n(stage.model, su.train, stage.Y_train, su.outputs)
     new = make_stage(augment.set_values(net, dict(zip(res.names, res.estimates))), model, res.p, res.cost, res.names,
-                 su.train, su.validate, su.outputs, dict(zip(res.names, baseline.inflated_stderr(res, n_eff))))
+                     su.train, su.validate, su.outputs, dict(zip(res.names, baseline.inflated_stderr(res, n_eff))))
     if residuals.total(new.esr_validation) > residuals.total(stage.esr_validation):
         return stage
     log(progress, f"  volumes released: validation ESR {fmt_esr(stage.esr_validation)} → {fmt_esr(new.esr_validation)}")

@@ -24,7 +24,8 @@ GROUPS = (COMPLIANCES, LAGS, BANDS)
 
 def shortlist(order: list[Candidate], scores: dict, n_fit: int, readings: frozenset = frozenset()) -> list[Candidate]:
     """The candidates to re-identify: the best-screening form of each of the ``n_fit`` best
-    EFFECTS (two forms of one effect must not crowd out a different effect), plus the best candidate of
+    EFFECTS (two forms of one effect must not crowd out a different effect), plus the best
+    candidate of each other balance (the equation it acts in: continuity, force, valve, signal,
     measurement) that competes: its score test is significant (p < ``RIVAL_P``) and it explains
     at least ``RIVAL_SHARE`` of what the top candidate explains. Effects that act in
     different balances can mimic each other over the conditions recorded (air in the chamber

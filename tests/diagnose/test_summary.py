@@ -53,5 +53,5 @@ def test_summary_says_what_grown_volumes_are_and_what_else_they_could_be():
     d.data["accepted"] = [base_findings.labelled(found, rows)]
     text = console_summary(d)
     assert "Line dynamics on 'vane' is present: the base fit found it (vane.V_1 = 0.00013" in text
-    assert "named line_dynamics: from the drawn volumes it fits the training data better" in text
+    assert "named line_dynamics: from the drawn volumes line_dynamics fits the training data better" in text
     assert "It could also be entrained air (the held-out data do not tell them apart)." in text
