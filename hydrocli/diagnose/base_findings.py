@@ -108,7 +108,9 @@ def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, s
     training fit (ΔBIC < 0) and the finding's own effect does not. Dev rotary hose, single
     T-section, from the drawn volumes: line ΔBIC −1621, air +835 (the finding had said air).
     Dev rotary polytropic air (seed 34), one chamber ×1.55: on top of it air −1424, a line +66
-    (the finding had said line: the softening at low pressure is what the volume lacks)."""
+    (the finding had said line: the softening at low pressure is what the volume lacks). When
+    both were fitted and neither improves, the name stays and the description says so (dev
+    rotary distributed hose, seed 32: air +41, line +42)."""
     def best(effect):
         fitted = [r for r in rows if r["effect"] == effect and r.get("fitted") and r.get("delta_bic") is not None]
         return min((r["delta_bic"] for r in fitted), default=None)
@@ -122,4 +124,13 @@ def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, s
             others = [e for e in finding["alternatives"] if e != alt]
             return dict(finding, effect=alt, alternatives=[finding["effect"], *others],
                         description=f"{finding['description']}; named {alt}: {why}")
+    alike = [(alt, best(alt)) for alt in finding.get("alternatives", [])]
+    alike = [(alt, d) for alt, d in alike if own is not None and d is not None and d >= 0 and own >= 0]
+    if alike:
+        # both readings fitted and neither improves on the grown volumes: the default name
+        # stands, and the finding says the training data do not choose either
+        alt, d_alt = alike[0]
+        return dict(finding, description=f"{finding['description']}; {where} neither reading {better} "
+                                         f"({finding['effect']} ΔBIC {own:+.0f}, {alt} {d_alt:+.0f}): the "
+                                         "training data do not tell them apart either")
     return finding

@@ -95,6 +95,11 @@ def test_grown_volumes_stay_air_unless_the_training_data_decide_against_it():
         assert base_findings.labelled(_excess(), _rows(air, line))["effect"] == "entrained_air"
     unfitted = [r for r in _rows(835.0, -1621.0) if r["effect"] != "entrained_air"]
     assert base_findings.labelled(_excess(), unfitted)["effect"] == "entrained_air"
+    # both fitted, neither improves on the grown volumes: the name stays, the finding says why
+    f = base_findings.labelled(_excess(), _rows(41.0, 42.0))
+    assert f["effect"] == "entrained_air" and "do not tell them apart either" in f["description"]
+    assert "entrained_air ΔBIC +41, line_dynamics +42" in f["description"]
+    assert "tell them apart" not in base_findings.labelled(_excess(), _rows(-500.0, -1500.0))["description"]
 
 
 def test_released_volumes_are_kept_only_when_they_fit_better_and_predict_no_worse(monkeypatch):
