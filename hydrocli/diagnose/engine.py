@@ -333,8 +333,8 @@ def _decide_polished(su: Setup, stage: Stage, win, rival, texts: dict, n_eff: fl
                      st: Settings, progress):
     """Two passing candidates whose quick fits (``candidate_evals`` iterations each) the data do
     not tell apart: both are polished (all parameters free, :func:`_polish`) and judged again
-    on the polished fits, by the round's own ranking (:func:`rank_passing`, then
-    :func:`simplest`: still alike, the special case is named). A quick fit
+    on the polished fits, by the round's own ranking (:func:`ranking.rank_passing`, then
+    :func:`ranking.simplest`: still alike, the special case is named). A quick fit
     stops where the budget ends, and two candidates reach it at different distances from
     their optimum: a hose whose fit must tune a volume, an inertance and a loss together can
     still be short of its minimum where a rod–load link, one stiffness, is already at its own.
