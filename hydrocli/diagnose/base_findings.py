@@ -115,17 +115,18 @@ def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, s
         fitted = [r for r in rows if r["effect"] == effect and r.get("fitted") and r.get("delta_bic") is not None]
         return min((r["delta_bic"] for r in fitted), default=None)
     own = best(finding["effect"])
+    if own is None:
+        return finding
+    fitted = [(alt, d) for alt in finding.get("alternatives", []) if (d := best(alt)) is not None]
     where, better = basis
-    for alt in finding.get("alternatives", []):
-        d_alt = best(alt)
-        if own is not None and d_alt is not None and d_alt < 0 <= own:
+    for alt, d_alt in fitted:
+        if d_alt < 0 <= own:
             why = f"{where} {alt} {better} (ΔBIC {d_alt:+.0f}), {finding['effect']} does not ({own:+.0f})"
             log(progress, f"  the grown volumes are {alt} rather than {finding['effect']}: {why}")
             others = [e for e in finding["alternatives"] if e != alt]
             return dict(finding, effect=alt, alternatives=[finding["effect"], *others],
                         description=f"{finding['description']}; named {alt}: {why}")
-    alike = [(alt, best(alt)) for alt in finding.get("alternatives", [])]
-    alike = [(alt, d) for alt, d in alike if own is not None and d is not None and d >= 0 and own >= 0]
+    alike = [(alt, d) for alt, d in fitted if d >= 0 and own >= 0]
     if alike:
         # both readings fitted and neither improves on the grown volumes: the default name
         # stands, and the finding says the training data do not choose either

@@ -182,13 +182,18 @@ def grown_alike(js: list[dict]) -> bool:
     if not any(_grown(j) for j in js):
         return False
     top = max(j["value"] / j["initial"] for j in js) - 1.0
-    return all(j["initial"] > 0 and np.isfinite(j["stderr"]) and j["value"] - j["initial"] > Z_MIN * j["stderr"]
-               and j["value"] / j["initial"] - 1.0 >= ALIKE * top for j in js)
+    return all(_above_drawing(j) and j["value"] / j["initial"] - 1.0 >= ALIKE * top for j in js)
 
 
 def _grown(j: dict) -> bool:
+    """Grown ``EXCESS`` × or more of the drawing's volume, well determined."""
+    return _above_drawing(j) and j["value"] >= EXCESS * j["initial"]
+
+
+def _above_drawing(j: dict) -> bool:
+    """Above the drawing's volume by more than ``Z_MIN`` standard errors."""
     v, v0, se = j["value"], j["initial"], j["stderr"]
-    return v0 > 0 and v >= EXCESS * v0 and np.isfinite(se) and v - v0 > Z_MIN * se
+    return v0 > 0 and np.isfinite(se) and v - v0 > Z_MIN * se
 
 
 def _determined(j: dict, off: OffValue) -> bool:
