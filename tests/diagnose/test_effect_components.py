@@ -37,3 +37,27 @@ def test_play_holds_inside_the_band_and_follows_outside():
     assert y[k] == pytest.approx(0.04, abs=2e-3)
     assert np.max(y) == pytest.approx(0.04, abs=2e-3)
     assert np.min(y[t > 1]) == pytest.approx(-0.04, abs=2e-3)
+
+
+def test_dahl_loop_follows_its_closed_form_branches():
+    """On a monotone input the Dahl state solves dz/dw = σ(1 − z/h): from z0 at w0,
+    z = h + (z0 − h)·exp(−σ(w − w0)/h) (going up), mirrored going down; w is the input through
+    the rate filter τ_r (a ramp's w trails it by τ_r). Up from 0, then down from the peak."""
+    t = np.linspace(0, 2, 4001)
+    rate, h, sigma, tau_r = 0.05, 0.01, 2.0, 2e-3
+    u = rate * np.where(t < 1.0, t, 2.0 - t)
+    y = _run("dahl_hysteresis", f", h: {h}, sigma: {sigma}, tau_r: {tau_r}", t, u)
+    z = u - y
+    w = rate * np.where(t < 1.0, t - tau_r * (1 - np.exp(-t / tau_r)), 0.0)
+    up = (t > 0.05) & (t < 0.99)
+    ref_up = h * (1 - np.exp(-sigma * w[up] / h))
+    assert np.max(np.abs(z[up] - ref_up)) < 1e-6 * h
+    # going down, from a point past the reversal (the filter's transient over): w trails u by
+    # the same τ_r·rate all along the branch, so the travel in w is the travel in u
+    k = np.argmin(np.abs(t - 1.05))
+    down = (t > 1.05) & (t < 1.99)
+    ref_down = -h + (z[k] + h) * np.exp(-sigma * (u[k] - u[down]) / h)
+    assert np.max(np.abs(z[down] - ref_down)) < 1e-6 * h
+    # the output trails the input by h in the direction of motion, the loop's width is 2h
+    assert z[np.argmin(np.abs(t - 0.9))] == pytest.approx(h, rel=1e-3)
+    assert z[np.argmin(np.abs(t - 1.9))] == pytest.approx(-h, rel=1e-3)

@@ -1,5 +1,5 @@
-"""Signal-path effects: a transport delay as a second-order Padé block, and valve play
-(backlash / hysteresis) as a smooth play operator.
+"""Signal-path effects: a transport delay as a second-order Padé block, valve play
+(backlash) as a smooth play operator, and a smooth Dahl hysteresis loop.
 
 Padé (2,2): e^{−sT} ≈ (1 − sT/2 + (sT)²/12)/(1 + sT/2 + (sT)²/12) (Franklin, Powell &
 Emami-Naeini, *Feedback Control*, §5.6.3), realised in controllable canonical form.
@@ -60,3 +60,35 @@ class Play(Component):
         u, y, p = c.signal("in"), c.state("y"), c.p
         c.der("y", (E.smooth_pos(u - y - p.b, p.eps) - E.smooth_pos(y - u - p.b, p.eps)) / p.tau)
         c.drive("out", y)
+
+
+@register
+class DahlHysteresis(Component):
+    """Smooth rate-independent hysteresis (Dahl's loop) of half-width h on a signal:
+    y = u − z,  z' = σ·r·(1 − (z/h)·tanh(r/ε)),  r = (u − w)/τ_r,  w' = r
+    (Dahl, *A solid friction model*, Aerospace Corp. TOR-158, 1968, eq. 5 with exponent 1; the
+    magnetic hysteresis of a torque motor). After a reversal z swings from ∓h to ±h over an
+    input travel of a few h/σ, so the output trails the input by h in the direction of motion:
+    the offset a play of half-width h also leaves once its band is crossed, but reached
+    within h/σ (σ ≫ 1: an abrupt switch) instead of 2h (a play holds still across its band).
+    ``r`` is the input's rate through a first-order filter τ_r; only its sign (smoothed over ε)
+    and its integral enter, so the loop does not depend on how fast it is run."""
+
+    type = "dahl_hysteresis"
+    family = "effects"
+    description = "Dahl hysteresis loop of half-width h on a signal (magnetic hysteresis of a torque motor)"
+    source = "Dahl 1968 (TOR-158) eq. 5, exponent 1"
+    ports = (_IN, _OUT)
+    parameters = (Param("h", "1", 1e-4, "half-width of the loop (input units)", positive=True, bounds=(1e-6, 0.1)),
+                  Param("sigma", "1", 1.0, "shape of the loop: dz/du = 2σ just after a reversal (σ ≫ 1 switches abruptly)",
+                        positive=True, bounds=(0.05, 100.0)),
+                  Param("tau_r", "s", 2e-3, "filter of the input rate (direction sensing)", positive=True),
+                  Param("eps", "1/s", 1e-3, "input rate below which the direction is smoothed", positive=True))
+    states = (StateSpec("w", "1", "filtered input", nominal=1e-2), StateSpec("z", "1", "hysteretic offset", nominal=1e-3))
+
+    def equations(self, c):
+        u, w, z, p = c.signal("in"), c.state("w"), c.state("z"), c.p
+        r = (u - w) / p.tau_r
+        c.der("w", r)
+        c.der("z", p.sigma * r * (1.0 - (z / p.h) * E.tanh(r / p.eps)))
+        c.drive("out", u - z)
