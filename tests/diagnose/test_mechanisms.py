@@ -193,7 +193,6 @@ def test_shortlist_adds_the_best_competing_candidate_of_each_other_balance():
     assert [c.key for c in shortlist(order, scores, 3)] == ["mount", "hyst", "lag", "leak"]
 
 
-
 def test_a_findings_readings_are_fitted_whatever_they_screen():
     """Grown chamber volumes on trial leave the residual at the noise: air and a hose screen
     0.0 %, not significant. Both readings are fitted all the same (readings=...), once each, and
@@ -210,6 +209,7 @@ def test_a_findings_readings_are_fitted_whatever_they_screen():
     keys = [c.key for c in shortlist(order, scores, 3, frozenset({"entrained_air", "line_dynamics"}))]
     assert sorted(keys) == ["air", "delay", "hyst", "lag", "line"] and len(keys) == len(set(keys))
     assert [c.key for c in shortlist(order[:3], scores, 3, frozenset({"entrained_air"}))] == ["lag", "delay", "hyst"]
+
 
 def _screened(*rows):
     """Candidates in screening order and their scores, from (key, balance, effect, explained)
@@ -762,6 +762,29 @@ def test_once_a_leak_is_shortlisted_its_other_significant_law_is_fitted_too():
     # the leak not shortlisted: its second law is not added either; a valve asymmetry's second
     # form is not a law and stays out
     assert [c.key for c in shortlist(order[3:], scores, 1)] == ["edges"]
+
+
+def test_valve_hysteresis_is_offered_as_a_play_and_as_a_dahl_loop_both_fitted(tmp_path):
+    """The spool's hysteresis has two laws (a linkage's play holds the spool across its band,
+    a torque motor's Dahl loop snaps to the same offset): both are offered between the command
+    and the valve, both build with their parameters free, and once one is shortlisted the other
+    is fitted too (dev Dahl-type hysteresis with the play alone: named, held-out gap left at
+    60–75 %)."""
+    from hydrocli.diagnose.candidates import LAWS
+    from hydrocli.diagnose.shortlist import shortlist
+    net = load_netlist_text(ROTARY, str(tmp_path / "vane.yaml"))
+    ctx = Context(net, set(), {"arm.theta": (-0.5, 0.5)}, {"p1": "pressure", "angle": "angle"}, {"u": 0.0})
+    hyst = [c for c in catalogue(ctx)[0] if c.effect == "valve_hysteresis"]
+    assert sorted(c.variant for c in hyst) == ["", "dahl"] and "valve_hysteresis" in LAWS
+    for c in hyst:
+        aug = c.build(net)
+        element = next(n for n, d in aug.components.items() if d.type in ("play", "dahl_hysteresis"))
+        valve_cmd = aug.components["valve"].ports["cmd"]
+        assert aug.components[element].ports == {"in": "u", "out": valve_cmd} and valve_cmd != "u"
+        assert {p.name for p in c.params} <= set(build_model(aug).free_params)
+    order, scores = _screened(("play", "valve", "valve_hysteresis", 0.6), ("delay", "signal", "input_delay", 0.5),
+                              ("dahl", "valve", "valve_hysteresis", 0.2))
+    assert [c.key for c in shortlist(order, scores, 1)] == ["play", "delay", "dahl"]
 
 
 @pytest.mark.parametrize("machine", ["luffing_cylinder.yaml", "rotary_drive.yaml"])
