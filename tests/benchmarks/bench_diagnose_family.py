@@ -25,7 +25,7 @@ import json
 import statistics
 import sys
 import time
-from collections import Counter, defaultdict
+from collections import Counter
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -116,10 +116,12 @@ def run_case(folder: Path, jobs: int, progress) -> dict:
 
 
 def _candidate_rows(data: dict) -> list[dict]:
-    """Every fitted candidate's acceptance figures (dev study of acceptance rules offline)."""
+    """Every fitted candidate's acceptance figures and fitted values (dev study of acceptance rules
+    offline; the parameter names tell the forms of one effect apart)."""
     keep = ("effect", "component", "round", "passed", "reasons", "delta_bic", "validation_gain",
             "noise_band", "esr_validation_after", "screening_explained")
-    return [{k: r.get(k) for k in keep} for r in data.get("ranking", []) if r.get("fitted")]
+    return [{**{k: r.get(k) for k in keep}, "parameters": {q["name"]: q.get("value") for q in r.get("parameters") or []}}
+            for r in data.get("ranking", []) if r.get("fitted")]
 
 
 def _pct(a, b):
