@@ -787,6 +787,30 @@ def test_valve_hysteresis_is_offered_as_a_play_and_as_a_dahl_loop_both_fitted(tm
     assert [c.key for c in shortlist(order, scores, 1)] == ["play", "delay", "dahl"]
 
 
+def test_coulomb_friction_frees_the_band_it_reverses_over_as_a_companion(tmp_path):
+    """A Coulomb candidate carries the friction element's reversal band (the role's ``band``)
+    as a companion: started at the machine's value (the type's default for a new element),
+    allowed to widen up to BAND_RANGE times it, judged as a widening; not offered when the
+    base model already fits the band."""
+    from hydrocli.diagnose.candidates.friction import BAND_RANGE
+    net = load_netlist_text(ROTARY, str(tmp_path / "vane.yaml"))
+    ctx = Context(net, set(), {"arm.theta": (-0.5, 0.5)}, {"p1": "pressure", "angle": "angle"}, {"u": 0.0})
+    coul = next(c for c in catalogue(ctx)[0] if c.effect == "coulomb_friction")
+    band = next(p for p in coul.params if p.name.endswith(".eps"))
+    assert not band.primary and band.start == band.ref == 1e-3 and band.bounds[1] == BAND_RANGE * 1e-3
+    assert band.bounds[0] < band.start < band.bounds[1]
+    assert {p.name for p in coul.params} <= set(build_model(coul.build(net)).free_params)
+    # an existing element: its own value; fitted in the base already: no companion
+    text = ROTARY.replace("outputs:", "  fr: {type: rotary_friction, ports: {a: arm, b: ground}, tau_c: 0.0, eps: 0.004}\noutputs:")
+    net = load_netlist_text(text, str(tmp_path / "vane2.yaml"))
+    ctx = Context(net, set(), {"arm.theta": (-0.5, 0.5)}, {"p1": "pressure", "angle": "angle"}, {"u": 0.0})
+    coul = next(c for c in catalogue(ctx)[0] if c.effect == "coulomb_friction")
+    assert [(p.name, p.start) for p in coul.params if not p.primary] == [("fr.eps", 0.004)]
+    ctx.free.add("fr.eps")
+    coul = next(c for c in catalogue(ctx)[0] if c.effect == "coulomb_friction")
+    assert all(p.primary for p in coul.params)
+
+
 @pytest.mark.parametrize("machine", ["luffing_cylinder.yaml", "rotary_drive.yaml"])
 def test_an_accepted_compliance_is_offered_again_as_a_progressive_spring(machine, tmp_path):
     """Once a rod–load link or a mount is in the model, its spring is offered again with a
