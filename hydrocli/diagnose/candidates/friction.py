@@ -17,7 +17,8 @@ REF_SEAL_FORCE = 2e5 * 2.0994e-3   # N: that force on seed 004's bench, where th
 # so the force turns over a band of speeds that the element's smoothing ``band`` stands for. A
 # Coulomb candidate frees the band as a companion, from the file's value (no change) up to
 # BAND_RANGE times it (translational 1e-4 → 10 mm/s, rotary 1e-3 → 0.1 rad/s). Dev rotary with a
-# band 40× the file's: Coulomb named, held-out P1 left at 0.29–0.67 % against noise 0.06–0.15 %.
+# band 40× the file's: Coulomb named, validation P1 left at 0.29–0.67 % against noise 0.06–0.15 %
+# (with the band free: 0.06–0.16 %).
 BAND_RANGE = 100.0
 
 _FORMS = {
