@@ -136,7 +136,7 @@ def _band(ctx: Context, fr: Part) -> list[NewParam]:
     try:
         v = ctx.value(name)
     except (KeyError, TypeError, ValueError):
-        spec = next((p for p in registry.get(fr.type).parameters if p.name == name.rpartition(".")[2]), None)
+        spec = registry.get(fr.type).param(name.rpartition(".")[2])
         v = spec.default if spec is not None else None
     if not v or v <= 0:
         return []
