@@ -28,6 +28,20 @@ def first_order(x, u, tau):
     return (u - x) / tau
 
 
+def dahl_rate(z, r, h, sigma, eps):
+    """z' of Dahl's loop driven by an input moving at rate r: σ·r·(1 − (z/h)·tanh(r/ε))
+    (Dahl 1968, TOR-158, eq. 5 with exponent 1; the direction sign(r) smoothed over ε).
+    z tends to ±h while the input moves; dz/du = σ just after a reversal from ∓h."""
+    return sigma * r * (1.0 - (z / h) * E.tanh(r / eps))
+
+
+def play_rate(u, y, b, eps, tau):
+    """y' of a smooth play (backlash) of half-width b: [s⁺(u − y − b) − s⁺(y − u − b)]/τ, s⁺ the
+    positive part smoothed over ε (play operator, Tao & Kokotović ch. 2): y holds while
+    |u − y| ≤ b and follows u with lag τ outside the band."""
+    return (E.smooth_pos(u - y - b, eps) - E.smooth_pos(y - u - b, eps)) / tau
+
+
 def tanh_sign(v, eps):
     """sign(v) smoothed as tanh(v/ε) (seed 004, text after eq. 11)."""
     return E.tanh(v / eps)

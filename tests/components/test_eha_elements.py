@@ -4,8 +4,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 
 from helpers import evaluate, pinned_model
+from hydrocli.model.builder import build_model
+from hydrocli.netlist.loader import load_netlist_text
 from hydrocli.runner import load_machine
 from simhelpers import col, run
 
@@ -113,3 +116,58 @@ def test_vane_actuator_torque_flow_and_leakage():
     assert np.allclose(r["vane.q_leak"], r_v * (p1 - p2), rtol=1e-12)
     assert np.allclose(r["src_n1.q"], d_v * 0.7 + r_v * (p1 - p2), rtol=1e-9)
     assert np.allclose(r["src_n2.q"], -(d_v * 0.7 + r_v * (p1 - p2)), rtol=1e-9)
+
+
+def test_spool_hysteresis_is_dahls_loop_on_the_spool_position():
+    """``hyst_h`` puts Dahl's loop between the spool and its metering lands, driven by the
+    spool's own speed: on a monotone spool travel dz/dx_v = σ(1 − z/h) (|ẋ_v| ≫ ε), so from z0
+    at x_v0, z = h + (z0 − h)·exp(−σ(x_v − x_v0)/h), mirrored going down. The command ramps up
+    and back through a first-order spool (τ 20 ms); z is read from the state against the spool
+    state x_v, so the closed form holds whatever the spool's lag."""
+    h, sigma = 0.01, 3.0
+    text = _valve(1000.0, 0.0).replace("    tau_rl:", f"    order: 1\n    tau: 0.02\n    hyst_h: {h}\n"
+                                                      f"    hyst_sigma: {sigma}\n    tau_rl:")
+
+    def ramp(t):
+        return {"u": 0.05 * np.where(t < 1.0, t, 2.0 - t)}
+    m, tr, _ = run(text, 2.0, n=4001, inputs=ramp)
+    xv, z = col(m, tr, "valve.xv"), col(m, tr, "valve.zh")
+    t = tr.t
+    up = (t > 0.05) & (t < 0.99)
+    assert np.max(np.abs(z[up] - h * (1 - np.exp(-sigma * xv[up] / h)))) < 1e-5 * h
+    k = np.argmin(np.abs(t - 1.2))            # past the reversal: the spool moves down again
+    down = (t > 1.2) & (t < 1.99)
+    ref = -h + (z[k] + h) * np.exp(-sigma * (xv[k] - xv[down]) / h)
+    assert np.max(np.abs(z[down] - ref)) < 1e-5 * h
+    # the metering position trails the spool by h in the direction of motion
+    assert z[np.argmin(np.abs(t - 0.9))] == pytest.approx(h, rel=1e-3)
+    assert z[np.argmin(np.abs(t - 1.9))] == pytest.approx(-h, rel=1e-3)
+    # without hyst_h the valve has no loop state (the plain valve keeps its size)
+    assert "valve.zh" not in build_model(load_netlist_text(_valve(1000.0, 0.0))).state_names
+
+
+def test_spool_play_holds_the_lands_inside_its_band():
+    """``play_b`` puts a play between the spool and its metering lands: after the spool
+    reverses, the lands (the metering position) stay until the spool has come back by 2b,
+    then follow it b behind. Following the spool at speed r, the smooth play's
+    s⁺(d) − s⁺(−d − 2b) = τ·r (s⁺(x) = ½(x + √(x² + ε²)), d = |x_v − x_e| − b) fixes the
+    lag b + d, solved here by bisection."""
+    b, eps, tau, r = 0.01, 1e-4, 2e-4, 0.05
+    text = _valve(1000.0, 0.0).replace("    tau_rl:", f"    order: 1\n    tau: 0.02\n    play_b: {b}\n    tau_rl:")
+
+    def ramp(t):
+        return {"u": r * np.where(t < 1.0, t, 2.0 - t)}
+    m, tr, _ = run(text, 2.0, n=4001, inputs=ramp)
+    xv, xe, t = col(m, tr, "valve.xv"), col(m, tr, "valve.xe"), tr.t
+    def splus(x):
+        return 0.5 * (x + np.sqrt(x * x + eps * eps))
+    lag = b + brentq(lambda d: splus(d) - splus(-d - 2 * b) - tau * r, -b, b, xtol=1e-14)
+    going = (t > 0.3) & (t < 0.99)                 # the spool moves at r (its lag settled)
+    assert np.max(np.abs(xe[going] - (xv[going] - lag))) < 1e-6
+    back = (t > 1.5) & (t < 1.99)
+    assert np.max(np.abs(xe[back] - (xv[back] + lag))) < 1e-6
+    # after the spool's peak the lands hold (to a tenth of the band: the smoothed edges creep)
+    # while the spool comes back across most of the band
+    k = int(np.argmax(xv))
+    inside = (np.arange(len(t)) > k) & (xv > xv[k] - 2 * b + 2e-3)
+    assert np.ptp(xv[inside]) > 1.5 * b and np.ptp(xe[inside]) < 0.1 * b

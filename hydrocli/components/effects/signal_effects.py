@@ -10,8 +10,8 @@ smooth right-hand side.
 """
 from __future__ import annotations
 
-from ...model import expr as E
 from ..base import SIGNAL_IN, SIGNAL_OUT, Component, Param, StateSpec
+from ..dynamics import dahl_rate, play_rate
 from ..registry import register
 
 _IN, _OUT = SIGNAL_IN, SIGNAL_OUT
@@ -58,7 +58,7 @@ class Play(Component):
 
     def equations(self, c):
         u, y, p = c.signal("in"), c.state("y"), c.p
-        c.der("y", (E.smooth_pos(u - y - p.b, p.eps) - E.smooth_pos(y - u - p.b, p.eps)) / p.tau)
+        c.der("y", play_rate(u, y, p.b, p.eps, p.tau))
         c.drive("out", y)
 
 
@@ -90,5 +90,5 @@ class DahlHysteresis(Component):
         u, w, z, p = c.signal("in"), c.state("w"), c.state("z"), c.p
         r = (u - w) / p.tau_r
         c.der("w", r)
-        c.der("z", p.sigma * r * (1.0 - (z / p.h) * E.tanh(r / p.eps)))
+        c.der("z", dahl_rate(z, r, p.h, p.sigma, p.eps))
         c.drive("out", u - z)

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from ...model import expr as E
 from ..base import Component, H, Param, Port, S, StateSpec, VariableSpec
-from ..dynamics import rate_limited, second_order, first_order
+from ..dynamics import dahl_rate, play_rate, rate_limited, second_order, first_order
 from ..registry import register
 from .. import roles as RL
 from ..roles import role
@@ -33,6 +33,15 @@ SPOOL_PARAMS = (
     Param("s_min", "1/s", 0.0, "maximum falling spool speed (magnitude; seed 004 eq. 1 s_v,min = −s_min); "
           "0 = s_max (symmetric)", source="seed 004 eq. 1", min=0.0, bounds=(1.0, 1000.0)),
     Param("tau_rl", "s", 1e-4, "tracking lag of the rate limiter below s_max", positive=True),
+    Param("hyst_h", "1", 0.0, "half-width of a Dahl hysteresis loop between the spool and its metering lands "
+          "(0: none)", source="Dahl 1968 eq. 5", min=0.0, bounds=(0.0, 0.1)),
+    Param("hyst_sigma", "1", 2.0, "shape of that loop: dz/dx_v = 2σ just after a reversal (σ ≫ 1 switches abruptly)",
+          positive=True, bounds=(0.05, 100.0)),
+    Param("hyst_eps", "1/s", 5e-3, "spool speed below which the loop's direction is smoothed", positive=True),
+    Param("play_b", "1", 0.0, "half-width of a play (backlash) between the spool and its metering lands (0: none)",
+          min=0.0, bounds=(0.0, 0.1)),
+    Param("play_eps", "1", 1e-4, "smoothing of the play's band edges", positive=True, bounds=(1e-6, 0.05)),
+    Param("play_tau", "s", 2e-4, "tracking lag of the lands outside the play's band", positive=True),
 )
 EDGE_PARAMS = (
     Param("overlap_PA", "1", 0.0, "overlap of edge P→A (negative: underlap)", min=-0.5, max=0.5,
@@ -56,13 +65,16 @@ SPOOL_STATES = (
     StateSpec("xr", "1", "rate-limited spool reference", nominal=0.01),
     StateSpec("xv", "1", "spool position (fraction)", nominal=0.01),
     StateSpec("xv_dot", "1/s", "spool velocity", nominal=1.0),
+    StateSpec("zh", "1", "offset of the metering lands from the spool (hysteresis loop; only with hyst_h)",
+              nominal=1e-3),
+    StateSpec("xe", "1", "position of the metering lands behind a play (only with play_b)", nominal=1e-2),
 )
 VALVE_PORTS = (
     Port("P", H, "supply"), Port("T", H, "tank/return"), Port("A", H, "work port A"),
     Port("B", H, "work port B"), Port("cmd", S, "spool command, fraction of full opening (−1…1)", direction="in"),
 )
 VALVE_VARS = (
-    VariableSpec("spool", "1", "spool position"),
+    VariableSpec("spool", "1", "metering position of the spool (its position less the hysteresis offset)"),
     VariableSpec("qA", "m^3/s", "flow out of port A"),
     VariableSpec("qB", "m^3/s", "flow out of port B"),
 )
@@ -70,20 +82,35 @@ VALVE_VARS = (
 
 def spool_position(c):
     """Command → smooth rate limiter (seed 004 eq. 1) → spool dynamics of order 0/1/2
-    (seed 004 eq. 2; seed 000 eq. 9 with ω_V = 1/τ, ζ_V = zeta); returns the spool position."""
+    (seed 004 eq. 2; seed 000 eq. 9 with ω_V = 1/τ, ζ_V = zeta) → metering position
+    of the lands: with ``play_b`` > 0 they follow the spool through a play of half-width b
+    (the play operator, Tao & Kokotović ch. 2); with ``hyst_h`` > 0 they trail it by a Dahl
+    loop driven by the spool's own speed, z' = σ·ẋ_v·(1 − (z/h)·tanh(ẋ_v/ε)) (Dahl 1968 eq. 5).
+    Either is the spool's hysteresis as the metering sees it, after the spool's dynamics."""
     p = c.p
     xr = c.state("xr")
-    c.der("xr", rate_limited(c.signal("cmd"), xr, p.s_max, p.tau_rl, p.s_min if c.active("s_min") else None))
+    dxr = rate_limited(c.signal("cmd"), xr, p.s_max, p.tau_rl, p.s_min if c.active("s_min") else None)
+    c.der("xr", dxr)
     order = int(c.value("order"))
     if order == 2:
         xv, xd = c.state("xv"), c.state("xv_dot")
         c.der("xv", xd)
         c.der("xv_dot", second_order(xv, xd, xr, p.tau, p.zeta))
+        rate = xd
     elif order == 1:
         xv = c.state("xv")
-        c.der("xv", first_order(xv, xr, p.tau))
+        rate = first_order(xv, xr, p.tau)
+        c.der("xv", rate)
     else:
-        xv = xr
+        xv, rate = xr, dxr
+    if c.active("play_b"):
+        xe = c.state("xe")
+        c.der("xe", play_rate(xv, xe, p.play_b, p.play_eps, p.play_tau))
+        xv = xe
+    if c.active("hyst_h"):
+        z = c.state("zh")
+        c.der("zh", dahl_rate(z, rate, p.hyst_h, p.hyst_sigma, p.hyst_eps))
+        xv = xv - z
     return c.let("spool", xv)
 
 
@@ -107,7 +134,8 @@ def stamp_four_edges(c, q_pa, q_bt, q_pb, q_at):
 VALVE_ROLE = role(RL.METERING_VALVE, {"supply": "P", "tank": "T", "work_a": "A", "work_b": "B", "command": "cmd"},
                    flow_gain="Kv", direction_ratio="Kv_neg_ratio",
                    overlaps=("overlap_PA", "overlap_BT", "overlap_PB", "overlap_AT"), edge_leak="G_leak",
-                   spool_dynamics=("tau", "s_max"))
+                   spool_dynamics=("tau", "s_max"), spool_hysteresis=("hyst_h", "hyst_sigma"),
+                   spool_play=("play_b", "play_eps"))
 
 
 @register
@@ -120,6 +148,8 @@ class Valve43(Component):
     q = Kv·ξ(x_v)·dp/(dp² + dp_lam²)^¼ (seed 000 eq. 6, seed 004 eq. 3), ξ the piecewise-linear
     opening with overlap/underlap (seed 000 Fig. 8), plus a laminar leakage G_leak·dp per edge.
     Edges used for negative commands (P→B, A→T) have gain Kv·Kv_neg_ratio (valve asymmetry).
+    Optionally the lands follow the spool through a play (``play_b``) or a Dahl loop
+    (``hyst_h``): the spool's hysteresis as the metering sees it (``spool_position``).
     """
 
     type = "valve_4_3"

@@ -198,7 +198,7 @@ class Family:
 
     def parameter_candidate(self, ctx: Context, effect: str, comp: str, params: list[NewParam], equation: str,
                             description: str, fixed: dict[str, float] | None = None,
-                            connect: dict[str, str] | None = None) -> Candidate | Skipped:
+                            connect: dict[str, str] | None = None, variant: str = "") -> Candidate | Skipped:
         """An effect that is an existing parameter of the component: set it free from its
         start value (and connect sensing ports); skipped when already free in the base."""
         already = [p.name for p in params if p.name in ctx.free]
@@ -211,7 +211,7 @@ class Family:
             if fixed:
                 net = A.set_values(net, fixed)
             return A.free_new(net, params)
-        return Candidate(effect, comp, params, build, equation, description, dict(fixed or {}))
+        return Candidate(effect, comp, params, build, equation, description, dict(fixed or {}), variant)
 
 
 def split(items) -> tuple[list[Candidate], list[Skipped]]:
