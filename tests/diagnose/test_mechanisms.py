@@ -680,8 +680,8 @@ def test_a_mount_candidate_identifies_what_moves_on_it(tmp_path):
     net = load_netlist_text(VANE_ON_MOUNT, str(tmp_path / "vane.yaml"))
     ctx = Context(net, set(), {"arm.theta": (-0.5, 0.5)}, {"p1": "pressure", "angle": "angle"}, {"u": 0.0})
     mount = next(c for c in catalogue(ctx)[0] if c.effect == "structural_flexibility")
-    k_name, j_name, c_name = (p.name for p in mount.params)
-    assert [p.primary for p in mount.params] == [True, False, False]
+    k_name, j_name, c_name, h_name = (p.name for p in mount.params)
+    assert [p.primary for p in mount.params] == [True, False, False, False] and h_name.endswith("_mount.h")
     frame = mount.params[1]
     assert frame.bounds[0] <= 0.02 * 0.05 and frame.bounds[1] >= 2 * 0.05     # a light housing … a heavy frame
     assert set(p.name for p in mount.params) <= set(build_model(mount.build(net)).free_params)
@@ -822,24 +822,20 @@ def test_coulomb_friction_frees_the_band_it_reverses_over_as_a_companion(tmp_pat
 
 
 @pytest.mark.parametrize("machine", ["luffing_cylinder.yaml", "rotary_drive.yaml"])
-def test_an_accepted_compliance_is_offered_again_as_a_progressive_spring(machine, tmp_path):
-    """Once a rod–load link or a mount is in the model, its spring is offered again with a
-    hardening (k·(1 + h·F²), the cubic bushing's first order) as a form of the same effect: not
-    before (the spring is not there), sized by the actuator's force at 50 bar."""
-    from hydrocli.diagnose import augment as A
+def test_a_compliance_is_fitted_with_its_springs_hardening(machine, tmp_path):
+    """A rod–load link and a mount carry their spring's hardening (k·(1 + h·F²), the cubic
+    bushing's first order) as a companion of the first fit, not in a later round: fitted as a
+    linear spring a hard bushing may not pass at all (dev EHA cubic mount, 1.1 %: validation
+    gain −0.005 % linear, ΔBIC −7934 and P2 0.87 → 0.48 % with h). Started negligible
+    (h·F₅₀² = 1e-6), tried at h·F₅₀² = 1 (F₅₀ the actuator's force at 50 bar), log scale."""
     net, _ = with_pressure_sensors(load_netlist(ROOT / "machines" / machine))
     ctx = Context(net, set(build_model(net).free_params), {}, {})
     cands = catalogue(ctx)[0]
+    f50 = ctx.size(next(iter(ctx.parts(R.ACTUATOR)))) * 5e6
+    for effect, spring in (("load_compliance", "_coupling.h"), ("structural_flexibility", "_mount.h")):
+        cand = next(c for c in cands if c.effect == effect)
+        (h,) = [p for p in cand.params if p.name.endswith(spring)]
+        assert not h.primary and h.log and h.start * f50 ** 2 == pytest.approx(1e-6)
+        assert h.shapes == pytest.approx((1.0 / f50 ** 2,)) and h.bounds[1] * f50 ** 2 == pytest.approx(1e3)
+        assert h.name in build_model(cand.build(net)).free_params
     assert not [c for c in cands if c.variant == "progressive"]
-    for effect in ("load_compliance", "structural_flexibility"):
-        linear = next(c for c in cands if c.effect == effect)
-        net2 = linear.build(net)
-        net2 = load_netlist_text(A.text_of(net2), str(tmp_path / "with.yaml"))
-        ctx2 = Context(net2, set(build_model(net2).free_params), {}, {})
-        prog = [c for c in catalogue(ctx2)[0] if c.effect == effect and c.variant == "progressive"]
-        assert len(prog) == 1 and prog[0].component == linear.component
-        h = prog[0].params[0]
-        assert h.name.endswith(("_coupling.h", "_mount.h")) and h.log and h.start < 1e-4 * h.probe
-        f50 = ctx.size(next(iter(ctx.parts(R.ACTUATOR)))) * 5e6
-        assert h.plausible == pytest.approx((1e-2 / f50 ** 2, 1e2 / f50 ** 2))
-        assert h.name in build_model(prog[0].build(net2)).free_params

@@ -20,9 +20,6 @@ from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 G = 9.81
 PROBE_HZ = 25.0   # Hz: the mode a compliance candidate's screening probe puts its mass in
-# the spring each compliance adds, named ``<actuator>_<suffix>``: found again by that name when
-# it is offered as a progressive spring in a later round (MechanicsFamily._hardening)
-SPRING_OF = {"load_compliance": "coupling", "structural_flexibility": "mount"}
 
 
 class MechanicsFamily(Family):
@@ -36,8 +33,6 @@ class MechanicsFamily(Family):
             dom = ctx.domain(node)
             loads = ctx.parts_on(node, R.LOAD)
             m = _inertia(ctx, loads[0]) if loads else None
-            out += [self._hardening(ctx, act, effect, f"{act.name}_{suffix}", dom)
-                    for effect, suffix in SPRING_OF.items() if f"{act.name}_{suffix}" in ctx.net.components]
             if not loads:
                 out.append(Skipped("load_compliance", f"no load (mass or inertia) on the moving node '{node}' of '{act.name}'"))
                 out.append(Skipped("payload_swing", f"no load on the moving node '{node}' of '{act.name}'"))
@@ -53,7 +48,7 @@ class MechanicsFamily(Family):
     @staticmethod
     def _compliance(ctx: Context, act: Part, rod: str, dom: Domain, m: float):
         load = A.unique_name(ctx.net, f"{rod}_load")
-        spring, damper, rodm = (A.unique_name(ctx.net, f"{act.name}_{s}") for s in (SPRING_OF["load_compliance"], "coupling_damper", "rod_mass"))
+        spring, damper, rodm = (A.unique_name(ctx.net, f"{act.name}_{s}") for s in ("coupling", "coupling_damper", "rod_mass"))
         keep = {f.name for f in ctx.parts_on(rod, R.FRICTION)} | {act.name}
         ltype, lrole = ctx.element(R.LOAD, dom)
         stype, srole = ctx.element(R.SPRING, dom)
@@ -70,6 +65,7 @@ class MechanicsFamily(Family):
                            k_probe, True),
                   NewParam(f"{damper}.{drole.param('damping')}", c0, (1.0 * s ** 0.5, 1e5 * s ** 0.5),
                            (1.0 * s ** 0.5, 1e5 * s ** 0.5), 0.3 * c0, True, primary=False)]
+        params += _progressive(ctx, act, spring, srole)
         # the joint's own dry friction (a clevis pin or bushing under load, a clamped boom
         # joint): the link sticks while the force through it changes by less than twice that
         # friction and slips, ringing, only in a hard acceleration. A linear spring–damper is
@@ -124,7 +120,7 @@ class MechanicsFamily(Family):
             return Skipped("structural_flexibility", f"the body of '{act.name}' is not fixed to ground")
         frame = A.unique_name(ctx.net, f"{act.name}_frame")
         rod = act.node("motion")
-        fm, sp, dm = (A.unique_name(ctx.net, f"{act.name}_{s}") for s in ("frame_mass", SPRING_OF["structural_flexibility"], "mount_damper"))
+        fm, sp, dm = (A.unique_name(ctx.net, f"{act.name}_{s}") for s in ("frame_mass", "mount", "mount_damper"))
         ltype, lrole = ctx.element(R.LOAD, dom)
         stype, srole = ctx.element(R.SPRING, dom)
         dtype, drole = ctx.element(R.DAMPER, dom)
@@ -144,6 +140,7 @@ class MechanicsFamily(Family):
                            True, primary=False),
                   NewParam(f"{dm}.{drole.param('damping')}", c0, (1e-3 * c0, 1e3 * c0), (1e-3 * c0, 1e3 * c0),
                            c0, True, primary=False)]
+        params += _progressive(ctx, act, sp, srole)
 
         # the actuator's own friction (seals, vanes) acts between the moving part and the BODY:
         # on a mount it is relative motion that rubs, and its reaction loads the frame, not the
@@ -178,24 +175,18 @@ class MechanicsFamily(Family):
                                          "the actuator's own transducer, relative to the body)")
 
 
-    @staticmethod
-    def _hardening(ctx: Context, act: Part, effect: str, spring: str, dom: Domain) -> Candidate:
-        """The compliance already in the model (``spring``, added by this family's candidate in
-        an earlier round) made progressive: its stiffness k·(1 + h·F²) grows with the force it
-        carries — a rubber bushing, a clevis or a coupling that firms up under load (the cubic
-        F = k·d + k₃·d³ to first order, h = 3k₃/k³). Offered once the linear one is in (a form
-        of the accepted effect, as a worn-seal orifice on top of a laminar leak); h is sized by
-        the actuator's force at 50 bar, F₅₀: plausible from h·F₅₀² = 0.01 (1 % stiffer there)
-        to 100."""
-        _, srole = ctx.element(R.SPRING, dom)
-        f50 = ctx.size(act) * 5e6
-        name = f"{spring}.{srole.param('hardening')}"
-        params = [NewParam(name, 1e-6 / f50 ** 2, (1e-8 / f50 ** 2, 1e3 / f50 ** 2), (1e-2 / f50 ** 2, 1e2 / f50 ** 2),
-                           1.0 / f50 ** 2, True)]
-        what = "rod–load coupling" if effect == "load_compliance" else "mount"
-        return Candidate(effect, act.name, params, lambda net: A.free_new(net, params), "force",
-                         f"the {what} of '{act.name}' stiffens with the force it carries (progressive "
-                         "spring, k·(1 + h·F²))", variant="progressive")
+def _progressive(ctx: Context, act: Part, spring: str, srole) -> list[NewParam]:
+    """The new spring's hardening h (k·(1 + h·F²), a companion, log scale) fitted WITH the
+    compliance: a rubber bushing or a clevis that firms up under load is not a linear spring
+    softer on average, and fitted as one it may not be found at all (dev EHA cubic bushing,
+    effect ESR 1.1 %: the linear mount gained nothing on the held-out run). Started at a
+    negligible h·F₅₀² = 1e-6, shapes 1 (F₅₀ the actuator's force at 50 bar)."""
+    name = srole.param("hardening")
+    if not name:
+        return []
+    f2 = (ctx.size(act) * 5e6) ** 2
+    return [NewParam(f"{spring}.{name}", 1e-6 / f2, (1e-8 / f2, 1e3 / f2), (1e-8 / f2, 1e3 / f2), 1e-6 / f2, True,
+                     primary=False, shapes=(1.0 / f2,))]
 
 
 def _probe_stiffness(mass: float) -> float:
