@@ -49,7 +49,18 @@ def find_cases(data: Path, split: str, machines, effects, limit):
         if effects and d["effect"] not in effects:
             continue
         out.append(side.parent)
+    out = _round_robin(out)
     return out[:limit] if limit else out
+
+
+def _round_robin(folders: list[Path]) -> list[Path]:
+    """The cases one machine after another (eha, lift, rotary, eha, …), each machine's in name
+    order: a run stopped early has covered every machine alike."""
+    by = {}
+    for f in folders:
+        by.setdefault(f.parent.name, []).append(f)
+    queues = [by[k] for k in sorted(by)]
+    return [q[i] for i in range(max((len(q) for q in queues), default=0)) for q in queues if i < len(q)]
 
 
 def top1(data: dict) -> str:
@@ -232,6 +243,7 @@ def main(argv=None) -> int:
     print(f"{len(cases)} {a.split} case(s) under {a.data}" + (" (held-out: aggregates only)" if blind else ""),
           flush=True)
     rows = []
+    out = a.json or (a.data / f"bench_{a.split}.json")
     for k, folder in enumerate(cases, 1):
         prog = None if blind else (lambda m, c=folder.name: print(f"  [{c}] {m}", file=sys.stderr, flush=True))
         r = run_case(folder, a.jobs, prog)
@@ -243,15 +255,19 @@ def main(argv=None) -> int:
             print(f"{mark}{r['case']:60s} size {r['size']:5.2f} % named {r['named']:28s} "
                   f"{_fmt_esr(r['esr_before'], r['esr_after'])}  {r['seconds']:.0f} s"
                   + (f"  ERROR {r['error']}" if r["error"] else ""), flush=True)
-    agg = aggregate(rows)
-    print_report(agg)
-    out = a.json or (a.data / f"bench_{a.split}.json")
-    payload = {"split": a.split, "data": str(a.data), "aggregate": agg}
-    if not blind:
-        payload["cases"] = rows
-    out.write_text(json.dumps(payload, indent=1, default=str) + "\n")
+        _write(out, a, rows, blind, done=k == len(cases))   # after every case: a stopped run keeps its figures
+    print_report(aggregate(rows))
     print(f"\nresults → {out}")
     return 0
+
+
+def _write(out: Path, a, rows: list[dict], blind: bool, done: bool) -> None:
+    payload = {"split": a.split, "data": str(a.data), "complete": done, "aggregate": aggregate(rows)}
+    if not blind:
+        payload["cases"] = rows
+    tmp = out.with_suffix(".part")
+    tmp.write_text(json.dumps(payload, indent=1, default=str) + "\n")
+    tmp.replace(out)
 
 
 if __name__ == "__main__":

@@ -159,6 +159,7 @@ def test_spool_play_holds_the_lands_inside_its_band():
         return {"u": r * np.where(t < 1.0, t, 2.0 - t)}
     m, tr, _ = run(text, 2.0, n=4001, inputs=ramp)
     xv, xe, t = col(m, tr, "valve.xv"), col(m, tr, "valve.xe"), tr.t
+
     def splus(x):
         return 0.5 * (x + np.sqrt(x * x + eps * eps))
     lag = b + brentq(lambda d: splus(d) - splus(-d - 2 * b) - tau * r, -b, b, xtol=1e-14)

@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 import importlib.util
+import json
+from types import SimpleNamespace
 from pathlib import Path
 
 import pytest
@@ -77,3 +79,17 @@ def test_acceptance_study_replays_the_band_and_keeps_every_other_reason():
     # band = max(kappa * 0.65, 0.15 * 0.75): the gain 0.3 passes below kappa ≈ 0.46 only
     assert study.named(row, 1.0) == "none"
     assert study.named(row, 0.25) == "sensor_lag"       # the better-BIC delay stays out: imprecise
+
+
+def test_cases_alternate_between_machines_and_results_are_written_after_each(tmp_path):
+    """A run stopped early has covered every machine alike and keeps what it measured."""
+    folders = [tmp_path / m / f"{m}_{i}" for m in ("eha", "lift", "rotary") for i in range(3 if m == "eha" else 1)]
+    order = bench._round_robin(folders)
+    assert [f.parent.name for f in order] == ["eha", "lift", "rotary", "eha", "eha"]
+    assert sorted(order) == sorted(folders)
+    out = tmp_path / "r.json"
+    row = {"effect": "none", "named": "none", "machine": "eha", "size": 0.0, "gap_closed": False,
+           "seconds": 1.0, "error": None, "esr_before": {}, "esr_after": {}, "form": "a", "case": "c"}
+    bench._write(out, SimpleNamespace(split="heldout", data=tmp_path), [row], blind=True, done=False)
+    data = json.loads(out.read_text())
+    assert data["complete"] is False and "cases" not in data and data["aggregate"]["n_cases"] == 1

@@ -43,8 +43,11 @@ class ValvePcLs(Component):
     """
 
     type = "valve_pc_ls"
-    roles = (role(RL.METERING_VALVE, {"supply": "P", "tank": "T", "work_a": "A", "work_b": "B", "command": "cmd"}, flow_gain="Kv", direction_ratio="Kv_neg_ratio", overlaps=("overlap_PA", "overlap_BT", "overlap_PB", "overlap_AT"), edge_leak="G_leak", spool_dynamics=("tau", "s_max"),
-                  spool_hysteresis=("hyst_h", "hyst_sigma"), spool_play=("play_b", "play_eps")),)
+    roles = (role(RL.METERING_VALVE, {"supply": "P", "tank": "T", "work_a": "A", "work_b": "B", "command": "cmd"},
+                  flow_gain="Kv", direction_ratio="Kv_neg_ratio",
+                  overlaps=("overlap_PA", "overlap_BT", "overlap_PB", "overlap_AT"), edge_leak="G_leak",
+                  spool_dynamics=("tau", "s_max"), spool_hysteresis=("hyst_h", "hyst_sigma"),
+                  spool_play=("play_b", "play_eps")),)
     family = "hydraulic"
     description = "Pressure-compensated load-sensing DCV (compensator holds p0 across the meter-in edge)"
     source = "seed 000 §4.1 eqs. 6–11, Fig. 7–8, Table 4"
