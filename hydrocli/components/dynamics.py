@@ -31,7 +31,7 @@ def first_order(x, u, tau):
 def dahl_rate(z, r, h, sigma, eps):
     """z' of Dahl's loop driven by an input moving at rate r: σ·r·(1 − (z/h)·tanh(r/ε))
     (Dahl 1968, TOR-158, eq. 5 with exponent 1; the direction sign(r) smoothed over ε).
-    z tends to ±h while the input moves; dz/du = σ just after a reversal from ∓h."""
+    z tends to ±h while the input moves; dz/du = 2σ just after a reversal from ∓h."""
     return sigma * r * (1.0 - (z / h) * E.tanh(r / eps))
 
 
