@@ -80,15 +80,9 @@ class ValveFamily(Family):
             return [Skipped("valve_hysteresis", f"'{valve}' has no command signal")]
         node = A.unique_name(ctx.net, f"{cmd}_{valve}")
         play = A.unique_name(ctx.net, f"{valve}_play")
-        # half-width b, and the rounding of the band's edges (a companion): a worn linkage's
-        # play closes its loop abruptly or, rounded, gradually
-        plays = [NewParam(f"{play}.b", 1e-4, (0.0, 0.1), (MIN_PLAY, 0.1), 0.01),
-                 NewParam(f"{play}.eps", 1e-4, (1e-5, 0.02), (1e-5, 0.02), 2e-3, True, primary=False)]
+        plays = _play_params(f"{play}.b", f"{play}.eps")
         loop = A.unique_name(ctx.net, f"{valve}_hysteresis")
-        # half-width h, and the loop's shape σ (a companion: dz/du = 2σ after a reversal)
-        loops = [NewParam(f"{loop}.h", 1e-5, (1e-6, 0.1), (MIN_PLAY, 0.1), 0.01, True),
-                 NewParam(f"{loop}.sigma", 2.0, (0.1, 100.0), (0.1, 100.0), 2.0, True, primary=False,
-                          shapes=(0.5, 10.0))]
+        loops = _loop_params(f"{loop}.h", f"{loop}.sigma")
 
         def between(element: str, type_: str, params: list[NewParam]):
             def build(net):
@@ -112,23 +106,30 @@ class ValveFamily(Family):
         the spool's lag)."""
         out = []
         if len(part.params("spool_play")) == 2:
-            b, eps = part.params("spool_play")
             out.append(self.parameter_candidate(
-                ctx, "valve_hysteresis", part.name,
-                [NewParam(b, 1e-4, (0.0, 0.1), (MIN_PLAY, 0.1), 0.01),
-                 NewParam(eps, 1e-4, (1e-5, 0.02), (1e-5, 0.02), 2e-3, True, primary=False)], "valve",
+                ctx, "valve_hysteresis", part.name, _play_params(*part.params("spool_play")), "valve",
                 "play (backlash, rounded or sharp) between the spool and its metering lands: the flow "
                 "lags the spool after a reversal", variant="play_spool"))
         if len(part.params("spool_hysteresis")) == 2:
-            h, sigma = part.params("spool_hysteresis")
             out.append(self.parameter_candidate(
-                ctx, "valve_hysteresis", part.name,
-                [NewParam(h, 1e-5, (1e-6, 0.1), (MIN_PLAY, 0.1), 0.01, True),
-                 NewParam(sigma, 2.0, (0.1, 100.0), (0.1, 100.0), 2.0, True, primary=False, shapes=(0.5, 10.0))],
+                ctx, "valve_hysteresis", part.name, _loop_params(*part.params("spool_hysteresis")),
                 "valve", "hysteresis of the spool as the metering sees it (a smooth Dahl loop after the spool's "
                          "dynamics): the lands trail the spool by the loop's half-width after each reversal",
                 variant="dahl_spool"))
         return out
+
+
+def _play_params(b: str, eps: str) -> list[NewParam]:
+    """A play's half-width b, and the rounding of its band's edges (a companion): a worn
+    linkage's play closes its loop abruptly or, rounded, gradually."""
+    return [NewParam(b, 1e-4, (0.0, 0.1), (MIN_PLAY, 0.1), 0.01),
+            NewParam(eps, 1e-4, (1e-5, 0.02), (1e-5, 0.02), 2e-3, True, primary=False)]
+
+
+def _loop_params(h: str, sigma: str) -> list[NewParam]:
+    """A Dahl loop's half-width h, and its shape σ (a companion: dz/du = 2σ after a reversal)."""
+    return [NewParam(h, 1e-5, (1e-6, 0.1), (MIN_PLAY, 0.1), 0.01, True),
+            NewParam(sigma, 2.0, (0.1, 100.0), (0.1, 100.0), 2.0, True, primary=False, shapes=(0.5, 10.0))]
 
 
 def _edges(ctx: Context, part: Part) -> Candidate | None:
