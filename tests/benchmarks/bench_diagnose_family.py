@@ -265,9 +265,8 @@ def _write(out: Path, a, rows: list[dict], blind: bool, done: bool) -> None:
     payload = {"split": a.split, "data": str(a.data), "complete": done, "aggregate": aggregate(rows)}
     if not blind:
         payload["cases"] = rows
-    tmp = out.with_suffix(".part")
-    tmp.write_text(json.dumps(payload, indent=1, default=str) + "\n")
-    tmp.replace(out)
+    from hydrocli.fileio import write_text_atomic
+    write_text_atomic(out, json.dumps(payload, indent=1, default=str) + "\n")
 
 
 if __name__ == "__main__":
