@@ -326,7 +326,7 @@ class CompiledModel:
         S0 = np.asarray(S0, dtype=np.float64)
         if S0.shape != (self.nx, ns):
             raise ValueError(f"S0 must have shape ({self.nx}, {ns}), got {S0.shape}")
-        S0c = np.ascontiguousarray(S0.T)           # column-major for the C side
+        S0c = np.ascontiguousarray(S0)             # state-major (S0[j, c]) for the C side
         args, _keep, t_out, X, Y, stats = self._arguments(p, t_in, U, u_hold, t0, x0, t_out, rtol, atol, h0, hmax,
                                                    max_steps)
         dY = np.full((t_out.shape[0], self.ny, ns), np.nan)

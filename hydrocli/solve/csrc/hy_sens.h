@@ -34,10 +34,11 @@
 struct hy_sens {
     int ns;                  /* sensitivity columns */
     const int *col_p;        /* parameter index of a column, -1 for an initial-state column */
-    double *S, *Sn, *Sy;     /* HY_NX*ns, column-major: current, new, stage value */
+    double *S, *Sn, *Sy;     /* HY_NX*ns, state-major (S[j*ns + c]): current, new, stage value */
     double *KS, *DS;         /* R_S and R_NH blocks of HY_NX*ns: stages, dense coefficients */
     double *g0, *g1, *gt;    /* HY_NX*ns work */
     double *jv, *fpv, *gxv, *gpv, *xe, *ye;
+    double *Vb, *col;        /* the block solve's work: HY_NX*ns, HY_NX */
     double *dY;              /* n_out * HY_NY * ns */
     double *dX;              /* n_out * HY_NX * ns, or NULL */
     const double *X_out;
@@ -45,56 +46,108 @@ struct hy_sens {
     long ngev;               /* evaluations of g */
 };
 
-/* out = J(t, x) S + df/dp(t, x) (parameter columns only). */
+/* out = J(t, x) S + df/dp(t, x) (parameter columns only).  Blocks are state-major
+   (S[j * ns + c]: state j, column c), so every update below runs along the columns of one
+   state row -- contiguous, vectorised -- instead of gathering one column at a time. */
 static int hy_sens_g(struct hy_sens *sn, hy_ws *w, double t, const double *x, const double *S, int kcap,
                      double *out)
 {
-    const int n = HY_NX, ns = sn->ns;
+    const int ns = sn->ns;
     int c, e, q, st;
     hy_eval_u(w, t, kcap, w->u);
     st = hy_jfp(t, x, w->p, w->u, sn->jv, sn->fpv);
     if (st) return st;
     sn->ngev++;
+    memset(out, 0, sizeof(double) * (size_t)HY_NX * ns);
+    for (e = 0; e < HY_NNZ; ++e) {
+        const double a = sn->jv[e];
+        double *restrict o = out + (size_t)HY_JAC_ROW[e] * ns;
+        const double *restrict s = S + (size_t)HY_JAC_COL[e] * ns;
+        if (a == 0.0) continue;
+        for (c = 0; c < ns; ++c) o[c] += a * s[c];
+    }
     for (c = 0; c < ns; ++c) {
-        double *o = out + (size_t)c * n;
-        const double *s = S + (size_t)c * n;
         const int k = sn->col_p[c];
-        memset(o, 0, sizeof(double) * (size_t)n);
-        for (e = 0; e < HY_NNZ; ++e) o[HY_JAC_ROW[e]] += sn->jv[e] * s[HY_JAC_COL[e]];
         if (k >= 0)
-            for (q = HY_FP_PTR[k]; q < HY_FP_PTR[k + 1]; ++q) o[HY_FP_ROW[q]] += sn->fpv[q];
+            for (q = HY_FP_PTR[k]; q < HY_FP_PTR[k + 1]; ++q) out[(size_t)HY_FP_ROW[q] * ns + c] += sn->fpv[q];
     }
     return 0;
 }
 
-/* dy/dtheta at output i (time to, state x, sensitivities S). */
-static int hy_sens_emit(struct hy_sens *sn, hy_ws *w, int i, double to, const double *x, const double *S)
+/* Solve W X = B in place for the ns columns of the state-major block B: the dense LU's
+   substitutions row against row (the same operations, in the same order, as hy_solve on each
+   column), the sparse LU column by column through a gathered copy. */
+static void hy_sens_solve(struct hy_sens *sn, const hy_ws *w, double *B)
 {
-    if (sn->dX) {
-        int c, j;
-        double *dx = sn->dX + (size_t)i * HY_NX * sn->ns;
-        for (j = 0; j < HY_NX; ++j)
-            for (c = 0; c < sn->ns; ++c) dx[j * sn->ns + c] = S[(size_t)c * HY_NX + j];
+    const int ns = sn->ns;
+    int i, j, c;
+    if (!w->use_dense) {
+        double *v = sn->col;
+        for (c = 0; c < ns; ++c) {
+            for (i = 0; i < HY_NX; ++i) v[i] = B[(size_t)i * ns + c];
+            hy_solve(w, v);
+            for (i = 0; i < HY_NX; ++i) B[(size_t)i * ns + c] = v[i];
+        }
+        return;
     }
     {
+        const double *restrict a = w->dA;
+        double *restrict V = sn->Vb;
+        for (i = 0; i < HY_NX; ++i)                               /* V = P B */
+            memcpy(V + (size_t)i * ns, B + (size_t)w->dpiv[i] * ns, sizeof(double) * (size_t)ns);
+        for (j = 0; j < HY_NX - 1; ++j) {
+            const double *restrict vj = V + (size_t)j * ns;
+            for (i = j + 1; i < HY_NX; ++i) {
+                const double l = a[(size_t)i * HY_NX + j];
+                double *restrict vi = V + (size_t)i * ns;
+                if (l == 0.0) continue;
+                for (c = 0; c < ns; ++c) vi[c] -= l * vj[c];
+            }
+        }
+        for (j = HY_NX - 1; j >= 0; --j) {
+            double *restrict vj = V + (size_t)j * ns;
+            const double d = w->ddinv[j];
+            for (c = 0; c < ns; ++c) vj[c] *= d;
+            for (i = 0; i < j; ++i) {
+                const double l = a[(size_t)i * HY_NX + j];
+                double *restrict vi = V + (size_t)i * ns;
+                if (l == 0.0) continue;
+                for (c = 0; c < ns; ++c) vi[c] -= l * vj[c];
+            }
+        }
+        memcpy(B, V, sizeof(double) * (size_t)HY_NX * ns);
+    }
+}
+
+/* dy/dtheta at output i (time to, state x, sensitivities S, state-major). */
+static int hy_sens_emit(struct hy_sens *sn, hy_ws *w, int i, double to, const double *x, const double *S)
+{
+    if (sn->dX)
+        memcpy(sn->dX + (size_t)i * HY_NX * sn->ns, S, sizeof(double) * (size_t)HY_NX * sn->ns);
+    {
 #if HY_NY > 0
-    const int n = HY_NX, ns = sn->ns;
+    const int ns = sn->ns;
     double *dy = sn->dY + (size_t)i * HY_NY * ns;
     int c, j, q, st;
     hy_eval_u(w, to, INT_MAX, w->u);
     st = hy_gjac(to, x, w->p, w->u, sn->gxv, sn->gpv);
     if (st) return st;
     memset(dy, 0, sizeof(double) * (size_t)HY_NY * ns);
+    for (j = 0; j < HY_NX; ++j) {
+        const double *restrict s = S + (size_t)j * ns;
+        for (q = HY_GX_PTR[j]; q < HY_GX_PTR[j + 1]; ++q) {
+            double *restrict d = dy + (size_t)HY_GX_ROW[q] * ns;
+            const double a = sn->gxv[q];
+            for (c = 0; c < ns; ++c) d[c] += a * s[c];
+        }
+    }
     for (c = 0; c < ns; ++c) {
-        const double *s = S + (size_t)c * n;
         const int k = sn->col_p[c];
-        for (j = 0; j < n; ++j)
-            for (q = HY_GX_PTR[j]; q < HY_GX_PTR[j + 1]; ++q) dy[HY_GX_ROW[q] * ns + c] += sn->gxv[q] * s[j];
         if (k >= 0)
-            for (q = HY_GP_PTR[k]; q < HY_GP_PTR[k + 1]; ++q) dy[HY_GP_ROW[q] * ns + c] += sn->gpv[q];
+            for (q = HY_GP_PTR[k]; q < HY_GP_PTR[k + 1]; ++q) dy[(size_t)HY_GP_ROW[q] * ns + c] += sn->gpv[q];
     }
 #else
-    (void)w; (void)to; (void)x;
+    (void)w; (void)to; (void)x; (void)S;
 #endif
     }
     return 0;
@@ -176,7 +229,7 @@ static int hy_sens_step(struct hy_sens *sn, hy_ws *w, double t, double tnext, do
             for (q = 0; q < m; ++q) ks[q] += (g1[q] - g0[q]) / eps;
         }
 #endif
-        for (j = 0; j < ns; ++j) hy_solve(w, ks + (size_t)j * n);
+        hy_sens_solve(sn, w, ks);
     }
     {
         const double *kl = sn->KS + (size_t)(R_S - 1) * m;
@@ -226,7 +279,8 @@ static int hy_integrate(const double *p, int n_tin, const double *t_in, const do
                         double *Y_out, double *stats, struct hy_sens *sn);
 
 /* hy_simulate plus sensitivities: ns columns, col_p[c] the parameter index of column c
-   (-1: an initial-state column, whose S0 column is given), S0 HY_NX*ns column-major,
+   (-1: an initial-state column, whose S0 column is given), S0 HY_NX*ns state-major
+   (S0[j*ns + c], a C-ordered nx x ns array),
    dY_out n_out*HY_NY*ns (row-major: output sample, output, column), dX_out (NULL or
    n_out*HY_NX*ns) the state sensitivities.  stats[8] = number
    of sensitivity right-hand-side evaluations. */
@@ -242,14 +296,14 @@ int hy_simulate_sens(
     int ret;
     memset(&sn, 0, sizeof sn);
     if (ns < 1 || !col_p || !S0 || (HY_NY > 0 && !dY_out)) return -1;
-    blk = (double *)malloc(sizeof(double) * ((6 + R_S + R_NH) * m + HY_NNZ + HY_FP_NNZ + HY_GX_NNZ
-                                             + HY_GP_NNZ + 2 * HY_NX + 4));
+    blk = (double *)malloc(sizeof(double) * ((7 + R_S + R_NH) * m + HY_NNZ + HY_FP_NNZ + HY_GX_NNZ
+                                             + HY_GP_NNZ + 3 * HY_NX + 4));
     if (!blk) return -1;
     sn.ns = ns; sn.col_p = col_p; sn.dY = dY_out; sn.dX = dX_out; sn.X_out = X_out;
     sn.S = blk; sn.Sn = sn.S + m; sn.Sy = sn.Sn + m; sn.g0 = sn.Sy + m; sn.g1 = sn.g0 + m; sn.gt = sn.g1 + m;
     sn.KS = sn.gt + m; sn.DS = sn.KS + (size_t)R_S * m; sn.jv = sn.DS + (size_t)R_NH * m;
     sn.fpv = sn.jv + HY_NNZ + 1; sn.gxv = sn.fpv + HY_FP_NNZ + 1; sn.gpv = sn.gxv + HY_GX_NNZ + 1;
-    sn.xe = sn.gpv + HY_GP_NNZ + 1; sn.ye = sn.xe + HY_NX;
+    sn.xe = sn.gpv + HY_GP_NNZ + 1; sn.ye = sn.xe + HY_NX; sn.col = sn.ye + HY_NX; sn.Vb = sn.col + HY_NX;
     memcpy(sn.S, S0, sizeof(double) * m);
     ret = hy_integrate(p, n_tin, t_in, U, u_hold, t0, x0, n_out, t_out, rtol, atol, h0, hmax, max_steps,
                        X_out, Y_out, stats, &sn);
