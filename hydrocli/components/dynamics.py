@@ -45,3 +45,38 @@ def play_rate(u, y, b, eps, tau):
 def tanh_sign(v, eps):
     """sign(v) smoothed as tanh(v/ε) (seed 004, text after eq. 11)."""
     return E.tanh(v / eps)
+
+
+CUBIC_SERIES_BELOW = 1e-3   # hc·F² below which the inversion uses its series (error < (hc·F²)⁴)
+
+
+def cubic_linear_force(f, hc):
+    """u = k·d of a cubic (Duffing) spring F = k·d·(1 + hc·(k·d)²/3) from its force F.
+
+    The real root of u³ + (3/hc)·u − 3F/hc = 0 (positive coefficient: one real root), in the
+    hyperbolic form of Cardano's solution, u = (2/s)·sinh(asinh(1.5·F·s)/3) with s = √hc;
+    for hc·F² < 10⁻³ the Lagrange inversion series u = F·(1 − z/3 + z²/3 − 4z³/9), z = hc·F²,
+    which stays exact at hc = 0 (no 0/0 in the value or its derivatives). With
+    hc = 3k₃/k³ this is F = k·d + k₃·d³, whose tangent stiffness is k·(1 + hc·u²)."""
+    z = hc * f * f
+    s = E.sqrt(E.fmax(hc, 1e-300))
+    exact = 2.0 * E.sinh(E.asinh(1.5 * f * s) / 3.0) / s
+    series = f * (1.0 - z / 3.0 + z * z / 3.0 - 4.0 / 9.0 * z * z * z)
+    return E.where(z < CUBIC_SERIES_BELOW, series, exact)
+
+
+def spring_stiffness(k, f, h=None, hc=None):
+    """Tangent stiffness of a spring carrying force (or torque) f: k·(1 + h·f² + hc·u²).
+
+    ``h``: hardening with the force carried, dF/dd = k·(1 + h·F²) (a stiffness that grows
+    with load without limit: F = tan(√h·k·d)/√h); ``hc``: cubic hardening with the
+    deflection, F = k·d + k₃·d³ with hc = 3k₃/k³ (:func:`cubic_linear_force`), the Duffing
+    spring of a rubber bushing or a clevis that firms up. To first order in F² the two agree;
+    at large load the force law stiffens far faster. Either None (or both): linear."""
+    extra = 0.0
+    if h is not None:
+        extra = extra + h * f * f
+    if hc is not None:
+        u = cubic_linear_force(f, hc)
+        extra = extra + hc * u * u
+    return k if h is None and hc is None else k * (1.0 + extra)

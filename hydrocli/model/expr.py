@@ -17,7 +17,7 @@ Number = int | float
 
 _BINARY = {"+": 1, "-": 1, "*": 2, "/": 2}
 _FUNCS_1 = ("sqrt", "exp", "log", "tanh", "sin", "cos", "tan", "atan", "abs", "sign", "asin", "acos",
-            "cosh", "sinh")
+            "cosh", "sinh", "asinh")
 _FUNCS_2 = ("atan2", "min", "max", "pow")
 _COMPARE = ("<", "<=", ">", ">=")
 
@@ -198,6 +198,7 @@ def asin(x): return func("asin", x)
 def acos(x): return func("acos", x)
 def sinh(x): return func("sinh", x)
 def cosh(x): return func("cosh", x)
+def asinh(x): return func("asinh", x)
 def fabs(x): return func("abs", x)
 def sign(x): return func("sign", x)
 def atan2(y, x): return func("atan2", y, x)
@@ -234,17 +235,17 @@ def signed_sqrt(dp, dp_lam) -> Expr:
 _PY_EVAL = {
     "sqrt": math.sqrt, "exp": math.exp, "log": math.log, "tanh": math.tanh, "sin": math.sin,
     "cos": math.cos, "tan": math.tan, "atan": math.atan, "asin": math.asin, "acos": math.acos,
-    "sinh": math.sinh, "cosh": math.cosh,
+    "sinh": math.sinh, "cosh": math.cosh, "asinh": math.asinh,
     "abs": abs, "sign": lambda v: (v > 0) - (v < 0), "atan2": math.atan2, "min": min, "max": max,
     "pow": math.pow,
 }
 _C_NAMES = {"sqrt": "sqrt", "exp": "exp", "log": "log", "tanh": "hy_tanh", "sin": "sin", "cos": "cos",
             "tan": "tan", "atan": "atan", "asin": "asin", "acos": "acos", "sinh": "sinh", "cosh": "cosh",
-            "abs": "fabs", "sign": "hy_sign", "atan2": "atan2", "min": "fmin", "max": "fmax",
+            "asinh": "asinh", "abs": "fabs", "sign": "hy_sign", "atan2": "atan2", "min": "fmin", "max": "fmax",
             "pow": "pow"}
 _NP_NAMES = {"sqrt": "np.sqrt", "exp": "np.exp", "log": "np.log", "tanh": "np.tanh", "sin": "np.sin",
              "cos": "np.cos", "tan": "np.tan", "atan": "np.arctan", "asin": "np.arcsin",
-             "acos": "np.arccos", "sinh": "np.sinh", "cosh": "np.cosh", "abs": "np.abs",
+             "acos": "np.arccos", "sinh": "np.sinh", "cosh": "np.cosh", "asinh": "np.arcsinh", "abs": "np.abs",
              "sign": "np.sign", "atan2": "np.arctan2", "min": "np.minimum", "max": "np.maximum",
              "pow": "np.power"}
 
@@ -366,7 +367,8 @@ def partial(e: Expr, key: tuple[str, str]) -> Expr:
         "tan": lambda: add(1.0, mul(e, e)), "atan": lambda: div(1.0, add(1.0, mul(x, x))),
         "asin": lambda: div(1.0, sqrt(sub(1.0, mul(x, x)))),
         "acos": lambda: div(-1.0, sqrt(sub(1.0, mul(x, x)))),
-        "sinh": lambda: cosh(x), "cosh": lambda: sinh(x), "abs": lambda: sign(x), "sign": lambda: ZERO,
+        "sinh": lambda: cosh(x), "cosh": lambda: sinh(x), "asinh": lambda: div(1.0, sqrt(add(1.0, mul(x, x)))),
+        "abs": lambda: sign(x), "sign": lambda: ZERO,
     }[op]()
     return mul(outer, d)
 

@@ -83,7 +83,7 @@ def _dim(e, units):
         a = a[1:]
     dims = [_dim(x, units) for x in a]
     if UNKNOWN in dims and op not in ("exp", "log", "tanh", "sin", "cos", "tan", "atan", "asin", "acos",
-                                      "sinh", "cosh", "atan2", "sign"):
+                                      "sinh", "cosh", "asinh", "atan2", "sign"):
         return UNKNOWN
     if op in ("+", "-") or op in _SAME:
         known = [d for d in dims if d is not CONST]

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from ..base import Component, Param, Port, S, StateSpec, T, VariableSpec
+from ..dynamics import spring_stiffness
 from ..registry import register
 from ..two_port import across_drop, branch, signal_or_param
 from .. import roles as RL
@@ -39,10 +40,12 @@ class Spring(Component):
     (the through variable of an inductive element, linear-graph convention). Linear with the
     hardening ``h`` = 0 (default); h > 0 stiffens it with the force it carries — a rubber
     bushing or a clevis that firms up under load, whose tangent stiffness k + 3k₃d² of
-    F = k·d + k₃·d³ is, to first order in k₃, k·(1 + h·F²) with h = 3k₃/k³."""
+    F = k·d + k₃·d³ is, to first order in k₃, k·(1 + h·F²) with h = 3k₃/k³. The cubic
+    hardening ``hc`` (default 0) is that Duffing spring exactly, F = k·d·(1 + hc·(k·d)²/3)
+    (``components.dynamics.spring_stiffness``); use one of h and hc."""
 
     type = "spring"
-    roles = (role(RL.SPRING, {"a": "a", "b": "b"}, stiffness="k", hardening="h"),)
+    roles = (role(RL.SPRING, {"a": "a", "b": "b"}, stiffness="k", hardening="h", cubic="hc"),)
     family = "mechanical"
     description = "Linear spring (force as state)"
     source = "linear-graph inductive element (seed 002 §3); seed 000 eq. 2"
@@ -51,13 +54,15 @@ class Spring(Component):
         Param("k", "N/m", 1e5, "stiffness", positive=True, bounds=(1.0, 1e10)),
         Param("F0", "N", 0.0, "initial tension force (+ pulls a toward b)"),
         Param("h", "1/N^2", 0.0, "hardening: the stiffness is k·(1 + h·F²) (0: linear)", min=0.0),
+        Param("hc", "1/N^2", 0.0, "cubic hardening: F = k·d·(1 + hc·(k·d)²/3), i.e. k₃ = hc·k³/3 "
+                                  "(0: linear)", min=0.0),
     )
     states = (StateSpec("dF", "N", "tension change since t0, ∫k(F)·(v_a − v_b)dt", nominal=100.0),)
     variables = (VariableSpec("F", "N", "spring tension F0 + dF"),)
 
     def equations(self, c):
         f = c.p.F0 + c.state("dF")
-        k = c.p.k * (1.0 + c.p.h * f * f) if c.active("h") else c.p.k
+        k = spring_stiffness(c.p.k, f, c.p.h if c.active("h") else None, c.p.hc if c.active("hc") else None)
         c.der("dF", k * across_drop(c))
         branch(c, "F", f)
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ...model import expr as E
 from ..base import Component, Param, Port, R, S, StateSpec, VariableSpec
+from ..dynamics import spring_stiffness
 from ..mechanical.friction import friction_force
 from ..registry import register
 from ..two_port import across_drop, branch, signal_or_param
@@ -39,10 +40,11 @@ class Shaft(Component):
     """Torsion spring-damper between a and b: τ = k_s(θ_a − θ_b) + b_s(ω_a − ω_b), the spring
     torque a state, dτ_k/dt = k_s(ω_a − ω_b) (seed 001 eqs. 14–15; k_s = 8.9e4 lb·in/rad
     measured, §4.2.2). A hardening ``h`` > 0 (default 0: linear) stiffens it with the torque it
-    carries, dτ_k/dt = k_s·(1 + h·τ_k²)(ω_a − ω_b) (a progressive coupling; see ``spring``)."""
+    carries, dτ_k/dt = k_s·(1 + h·τ_k²)(ω_a − ω_b) (a progressive coupling; see ``spring``);
+    the cubic hardening ``hc`` makes it the Duffing spring τ_k = k_s·Δθ·(1 + hc·(k_s·Δθ)²/3)."""
 
     type = "shaft"
-    roles = (role(RL.SPRING, {"a": "a", "b": "b"}, stiffness="k", hardening="h"),)
+    roles = (role(RL.SPRING, {"a": "a", "b": "b"}, stiffness="k", hardening="h", cubic="hc"),)
     family = "rotational"
     description = "Torsion spring-damper shaft (spring torque as state)"
     source = "seed 001 eqs. 14–15, eq. 19"
@@ -52,6 +54,7 @@ class Shaft(Component):
               positive=True, bounds=(1.0, 1e9)),
         Param("b", "N*m*s/rad", 0.0, "shaft damping b_s", min=0.0, bounds=(0.0, 1e5)),
         Param("h", "1/(N*m)^2", 0.0, "hardening: the stiffness is k_s·(1 + h·τ_k²) (0: linear)", min=0.0),
+        Param("hc", "1/(N*m)^2", 0.0, "cubic hardening: τ_k = k_s·Δθ·(1 + hc·(k_s·Δθ)²/3) (0: linear)", min=0.0),
     )
     states = (StateSpec("tau_k", "N*m", "spring torque k_s(θ_a − θ_b)", nominal=10.0),)
     variables = (VariableSpec("tau", "N*m", "transmitted torque"),)
@@ -59,7 +62,7 @@ class Shaft(Component):
     def equations(self, c):
         dw = across_drop(c)
         tk = c.state("tau_k")
-        k = c.p.k * (1.0 + c.p.h * tk * tk) if c.active("h") else c.p.k
+        k = spring_stiffness(c.p.k, tk, c.p.h if c.active("h") else None, c.p.hc if c.active("hc") else None)
         c.der("tau_k", k * dw)
         branch(c, "tau", tk + (c.p.b * dw if c.active("b") else 0.0))
 
