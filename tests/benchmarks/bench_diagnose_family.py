@@ -150,8 +150,10 @@ def aggregate(rows: list[dict]) -> dict:
         tp = sum(1 for r in rows if r["effect"] == e and r["named"] == e)
         n_true = sum(1 for r in rows if r["effect"] == e)
         n_named = sum(1 for r in rows if r["named"] == e)
+        closed = sum(1 for r in rows if r["effect"] == e and r["named"] == e and r["gap_closed"])
         per_effect[e] = {"n": n_true, "recall": tp / n_true if n_true else None,
-                         "precision": tp / n_named if n_named else None, "tp": tp, "named": n_named}
+                         "precision": tp / n_named if n_named else None, "tp": tp, "named": n_named,
+                         "closed": closed}
     by_machine = {}
     for m in sorted({r["machine"] for r in rows}):
         er = [r for r in eff_rows if r["machine"] == m]
@@ -187,12 +189,13 @@ def print_report(agg: dict):
     print(f"{'':30s}" + "".join(f"{short[c]:>11s}" for c in cols))
     for t in sorted(conf):
         print(f"{t:30s}" + "".join(f"{conf[t].get(c, 0) or '.':>11}" for c in cols))
-    print("\nPer effect: recall (top-1) / precision")
+    print("\nPer effect: recall (top-1) / precision / held-out gap closed among those named right")
     for e, s in pe.items():
         if s["n"] or s["named"]:
             rec = f"{s['recall']:.2f}" if s["recall"] is not None else "—"
             pre = f"{s['precision']:.2f}" if s["precision"] is not None else "—"
-            print(f"  {e:30s} n={s['n']:3d}  recall {rec:>5s}  precision {pre:>5s}")
+            print(f"  {e:30s} n={s['n']:3d}  recall {rec:>5s}  precision {pre:>5s}  "
+                  f"gap closed {s.get('closed', 0)}/{s['tp']}")
     fp = agg["null_false_positive_rate"]
     print(f"\nNull cases: {agg['n_null']}, false-positive rate "
           f"{'—' if fp is None else f'{100 * fp:.1f} %'}")

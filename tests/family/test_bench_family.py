@@ -56,6 +56,11 @@ def test_aggregate_counts():
     assert a["esr_buckets"]["<1%"] == {"n": 1, "top1": 0}
     assert a["esr_buckets"][">=1%"] == {"n": 2, "top1": 2}
     assert a["per_machine"]["lift"]["top1_ge1"] == 1 and a["per_machine"]["rotary"]["nulls_none"] == 0
+    # the held-out gap, closed among the cases of each effect named right (aggregate, not per case)
+    rows[0]["gap_closed"], rows[2]["gap_closed"] = True, False
+    a = bench.aggregate(rows)
+    assert a["per_effect"]["entrained_air"]["closed"] == 1 and a["per_effect"]["structural_flexibility"]["closed"] == 0
+    assert a["gap_closed_among_right"] == {"n": 2, "closed": 1}     # effect cases named right only
 
 
 def test_find_cases_filters_by_split(tmp_path):
