@@ -78,3 +78,15 @@ def test_small_cubic_hardening_uses_the_series_without_loss():
     d = y["x"]
     k3 = hc * K ** 3 / 3.0
     assert np.max(np.abs(y["F"] - (K * d + k3 * d ** 3))) <= 1e-8 * np.max(np.abs(y["F"]))
+
+
+def test_cubic_law_holds_across_the_series_switch():
+    """A swing whose hc·F² crosses the series switch (10⁻³) on the way up to ~10⁻²: the force
+    follows F = k·d + k₃·d³ on both branches, and through the switch."""
+    hc = 1e-2 / (K * 0.024) ** 2
+    y = _run(LINEAR, f"hc: {hc!r}")
+    d, F = y["x"], y["F"]
+    z = hc * F ** 2
+    assert z.max() > 3e-3 and np.any((z > 0) & (z < 1e-3))
+    k3 = hc * K ** 3 / 3.0
+    assert np.max(np.abs(F - (K * d + k3 * d ** 3))) <= 1e-7 * np.max(np.abs(F))
