@@ -681,7 +681,7 @@ def test_a_mount_candidate_identifies_what_moves_on_it(tmp_path):
     ctx = Context(net, set(), {"arm.theta": (-0.5, 0.5)}, {"p1": "pressure", "angle": "angle"}, {"u": 0.0})
     mount = next(c for c in catalogue(ctx)[0] if c.effect == "structural_flexibility")
     k_name, j_name, c_name, h_name = (p.name for p in mount.params)
-    assert [p.primary for p in mount.params] == [True, False, False, False] and h_name.endswith("_mount.h")
+    assert [p.primary for p in mount.params] == [True, False, False, False] and h_name.endswith("_mount.hc")
     frame = mount.params[1]
     assert frame.bounds[0] <= 0.02 * 0.05 and frame.bounds[1] >= 2 * 0.05     # a light housing … a heavy frame
     assert set(p.name for p in mount.params) <= set(build_model(mount.build(net)).free_params)
