@@ -73,10 +73,12 @@ def spring_stiffness(k, f, h=None, hc=None):
     deflection, F = k·d + k₃·d³ with hc = 3k₃/k³ (:func:`cubic_linear_force`), the Duffing
     spring of a rubber bushing or a clevis that firms up. To first order in F² the two agree;
     at large load the force law stiffens far faster. Either None (or both): linear."""
+    if h is None and hc is None:
+        return k
     extra = 0.0
     if h is not None:
         extra = extra + h * f * f
     if hc is not None:
         u = cubic_linear_force(f, hc)
         extra = extra + hc * u * u
-    return k if h is None and hc is None else k * (1.0 + extra)
+    return k * (1.0 + extra)

@@ -150,7 +150,8 @@ def aggregate(rows: list[dict]) -> dict:
         tp = sum(1 for r in rows if r["effect"] == e and r["named"] == e)
         n_true = sum(1 for r in rows if r["effect"] == e)
         n_named = sum(1 for r in rows if r["named"] == e)
-        closed = sum(1 for r in rows if r["effect"] == e and r["named"] == e and r["gap_closed"])
+        # a null has no gap to close: counted for effects only
+        closed = None if e == "none" else sum(1 for r in rows if r["effect"] == e and r["named"] == e and r["gap_closed"])
         per_effect[e] = {"n": n_true, "recall": tp / n_true if n_true else None,
                          "precision": tp / n_named if n_named else None, "tp": tp, "named": n_named,
                          "closed": closed}
@@ -194,8 +195,8 @@ def print_report(agg: dict):
         if s["n"] or s["named"]:
             rec = f"{s['recall']:.2f}" if s["recall"] is not None else "—"
             pre = f"{s['precision']:.2f}" if s["precision"] is not None else "—"
-            print(f"  {e:30s} n={s['n']:3d}  recall {rec:>5s}  precision {pre:>5s}  "
-                  f"gap closed {s.get('closed', 0)}/{s['tp']}")
+            gap = "" if s["closed"] is None else f"  gap closed {s['closed']}/{s['tp']}"
+            print(f"  {e:30s} n={s['n']:3d}  recall {rec:>5s}  precision {pre:>5s}{gap}")
     fp = agg["null_false_positive_rate"]
     print(f"\nNull cases: {agg['n_null']}, false-positive rate "
           f"{'—' if fp is None else f'{100 * fp:.1f} %'}")

@@ -60,6 +60,7 @@ def test_aggregate_counts():
     rows[0]["gap_closed"], rows[2]["gap_closed"] = True, False
     a = bench.aggregate(rows)
     assert a["per_effect"]["entrained_air"]["closed"] == 1 and a["per_effect"]["structural_flexibility"]["closed"] == 0
+    assert a["per_effect"]["none"]["closed"] is None                 # a null has no gap to close
     assert a["gap_closed_among_right"] == {"n": 2, "closed": 1}     # effect cases named right only
 
 
