@@ -160,9 +160,12 @@ def aggregate(rows: list[dict]) -> dict:
         er = [r for r in eff_rows if r["machine"] == m]
         nr = [r for r in nulls if r["machine"] == m]
         big = [r for r in er if r["size"] >= 1.0]
+        mr = [r for r in rows if r["machine"] == m]
         by_machine[m] = {"effect_cases": len(er), "top1": sum(r["named"] == r["effect"] for r in er),
                          "effect_cases_ge1": len(big), "top1_ge1": sum(r["named"] == r["effect"] for r in big),
-                         "nulls": len(nr), "nulls_none": sum(r["named"] == "none" for r in nr)}
+                         "nulls": len(nr), "nulls_none": sum(r["named"] == "none" for r in nr),
+                         "closed": sum(bool(r["gap_closed"]) for r in er if r["named"] == r["effect"]),
+                         "seconds_mean": statistics.mean(r["seconds"] for r in mr)}
     buckets = {}
     for name, lo, hi in BUCKETS:
         b = [r for r in eff_rows if lo <= r["size"] < hi]
@@ -200,10 +203,11 @@ def print_report(agg: dict):
     fp = agg["null_false_positive_rate"]
     print(f"\nNull cases: {agg['n_null']}, false-positive rate "
           f"{'—' if fp is None else f'{100 * fp:.1f} %'}")
-    print("\nPer machine: top-1 on effect cases | on effect ESR >= 1 % | nulls answered none")
+    print("\nPer machine: top-1 on effect cases | on effect ESR >= 1 % | nulls answered none | gap closed "
+          "among those named right | mean time")
     for m, s in agg["per_machine"].items():
         print(f"  {m:10s} {_pct(s['top1'], s['effect_cases'])} | {_pct(s['top1_ge1'], s['effect_cases_ge1'])} | "
-              f"{_pct(s['nulls_none'], s['nulls'])}")
+              f"{_pct(s['nulls_none'], s['nulls'])} | {_pct(s['closed'], s['top1'])} | {s['seconds_mean']:.0f} s")
     print("\nBy effect ESR bucket (top-1):")
     for b, s in agg["esr_buckets"].items():
         print(f"  {b:5s} {_pct(s['top1'], s['n'])}")

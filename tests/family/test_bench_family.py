@@ -56,6 +56,12 @@ def test_aggregate_counts():
     assert a["esr_buckets"]["<1%"] == {"n": 1, "top1": 0}
     assert a["esr_buckets"][">=1%"] == {"n": 2, "top1": 2}
     assert a["per_machine"]["lift"]["top1_ge1"] == 1 and a["per_machine"]["rotary"]["nulls_none"] == 0
+    rows[0]["seconds"] = 40.0
+    a = bench.aggregate(rows)
+    assert a["per_machine"]["lift"]["seconds_mean"] == pytest.approx(20.0)        # (40 + 10 + 10) / 3
+    assert a["per_machine"]["lift"]["closed"] == 1 and a["per_machine"]["rotary"]["closed"] == 1
+    rows[2]["gap_closed"] = False
+    assert bench.aggregate(rows)["per_machine"]["rotary"]["closed"] == 0
     # the held-out gap, closed among the cases of each effect named right (aggregate, not per case)
     rows[0]["gap_closed"], rows[2]["gap_closed"] = True, False
     a = bench.aggregate(rows)
