@@ -31,7 +31,7 @@ friction           ports a, b, pressure_a, pressure_b; params viscous, coulomb, 
                    pressure_size, band (the speed over which Coulomb friction reverses)
 pressure_source    ports out, reference; params pressure
 tank               ports node
-volume             ports node; params volume, air
+volume             ports node; params volume, air, bulk_modulus
 restriction        ports a, b; params conductance (turbulent: q = K·√Δp)
 laminar_restriction ports a, b; params resistance (Δp = R·q)
 =================  ==========================================================================

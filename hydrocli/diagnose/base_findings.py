@@ -8,6 +8,7 @@ from dataclasses import replace
 from ..components import roles as R
 from . import accept, findings, residuals
 from .candidates import catalogue
+from .sides import feeders
 from .stage import Baseline, Setup, Stage, context, log
 
 
@@ -27,7 +28,10 @@ def base_fit_findings(su: Setup, stage: Stage, judged: list[dict], late: bool = 
         tables[frozenset(values)] = residuals.esr_table(model, su.validate, Y, su.outputs)
         off_total = residuals.total(tables[frozenset(values)])
         return off_total - val, accept.need(off_total, su.noise_total, selected=False)
-    chambers = [findings.Chambers(a.name, tuple(a.params("dead_volumes"))) for a in ctx.parts(R.ACTUATOR)]
+    chambers = [findings.Chambers(a.name, tuple(a.params("dead_volumes")), a.param("bulk_modulus"),
+                                  feeders(replace(ctx, free=set(stage.free)), a.name,
+                                          (a.node("chamber_a"), a.node("chamber_b"))))
+                for a in ctx.parts(R.ACTUATOR)]
     if late:
         found = findings.undrawn_volume(judged, chambers, gain_at)
     else:

@@ -27,6 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .sides import Feeder
+
 Z_MIN = 3.0          # a finding must sit this many (inflated) standard errors from "off"
 MISMATCH_ESR = 1.0   # % validation ESR above the noise floor that the benchmark calls detectable
 BEYOND = 0.05        # held-out positions further than this share of the training span outside it
@@ -88,9 +90,13 @@ def base_fit_findings(judged: list[dict], offs: dict[str, OffValue], gain_of) ->
 
 @dataclass(frozen=True)
 class Chambers:
-    """An actuator's chamber volumes at the reference position (role slot ``dead_volumes``)."""
+    """An actuator's chamber volumes at the reference position (role slot ``dead_volumes``),
+    its oil's bulk modulus (slot ``bulk_modulus``), and per chamber the free volumes on that
+    side of the circuit (:func:`.sides.feeders`)."""
     component: str
     volumes: tuple[str, ...]
+    modulus: str | None = None
+    feeders: tuple[tuple[Feeder, ...], ...] = ()
 
 
 def fluid_compliance_excess(judged: list[dict], actuators: list[Chambers], gain_of) -> list[dict]:
@@ -110,7 +116,9 @@ def fluid_compliance_excess(judged: list[dict], actuators: list[Chambers], gain_
     found = []
     for act in actuators:
         js = [rows.get(n) for n in act.volumes]
-        if len(js) < 2 or any(j is None for j in js) or not grown_alike(js):
+        if len(js) < 2 or any(j is None for j in js):
+            continue
+        if not grown_alike(net_of_feeders(act, js, rows)):
             continue
         found += _volume_finding(act, js, gain_of, "entrained_air", "line_dynamics", EXCESS_FINDING,
                                  lambda ratios: "the base fit needs more fluid compliance in every chamber "
@@ -141,8 +149,9 @@ def undrawn_volume(judged: list[dict], actuators: list[Chambers], gain_of) -> li
         js = [rows.get(n) for n in act.volumes]
         if any(j is None for j in js):
             continue
-        grown = [j for j in js if _grown(j)]
-        if not grown or grown_alike(js):
+        net = net_of_feeders(act, js, rows)
+        grown = [j for j, n in zip(js, net) if _grown(n)]
+        if not grown or grown_alike(net):
             continue
         found += _volume_finding(act, grown, gain_of, "line_dynamics", "entrained_air", "undrawn_volume",
                                  lambda ratios: f"the fit needs more fluid volume on one side of "
@@ -166,6 +175,34 @@ def _volume_finding(act: Chambers, grown: list[dict], gain_of, effect: str, alte
                              "file_value": j["initial"]} for j in grown],
              "validation_gain": gain, "noise_band": need, "alternatives": [alternative],
              "description": describe(ratios)}]
+
+
+def net_of_feeders(act: Chambers, js: list[dict], rows: dict[str, dict]) -> list[dict]:
+    """The chambers' fitted volumes less the compliance the fit took from the free volumes on
+    the same side (:mod:`.sides`), as oil at the chamber's fitted bulk modulus:
+    V_net = V − β·Σ(V_f,file/β_f,file − V_f/β_f). Growing a chamber by what the line beyond a
+    counterbalance valve lost keeps the side's compliance what the drawing has: no fluid is
+    missing (dev counterbalanced lift, null case: V_A0 ×1.70 while the line's 0.3 L went to
+    its 0.05 L bound at a stiffer modulus, ×1.09 net). Only a loss counts: a feeder the fit
+    grew is not chamber volume. Rows without feeders come back unchanged."""
+    out = []
+    for j, side in zip(js, act.feeders or [()] * len(js)):
+        if not side:
+            out.append(j)
+            continue
+        mod = rows.get(act.modulus) if act.modulus else None
+        beta = mod["value"] if mod else float("nan")
+        taken = 0.0
+        for f in side:
+            v = rows.get(f.volume)
+            b = rows.get(f.modulus)
+            v_fit = v["value"] if v else f.volume_file
+            b_file = f.modulus_file if np.isfinite(f.modulus_file) else beta
+            b_fit = b["value"] if b else b_file
+            taken += f.volume_file / b_file - v_fit / b_fit
+        taken = taken * beta if np.isfinite(beta) and np.isfinite(taken) else 0.0
+        out.append(dict(j, value=j["value"] - max(taken, 0.0)) if taken > 0 else j)
+    return out
 
 
 def grown_alike(js: list[dict]) -> bool:

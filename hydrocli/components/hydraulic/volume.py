@@ -13,7 +13,7 @@ class Volume(Component):
     """C = V/β_e on its node, so that C·dp/dt = Σq (seed 004 eqs. 4–7 without the piston term)."""
 
     type = "volume"
-    roles = (role(RL.VOLUME, {"node": "P"}, volume="V", air="air"),)
+    roles = (role(RL.VOLUME, {"node": "P"}, volume="V", air="air", bulk_modulus="beta"),)
     family = "hydraulic"
     description = "Lumped oil volume (capacitance V/β) on a node"
     source = "seed 004 eqs. 6–7; seed 002 §3 (fluid capacitance)"
