@@ -30,7 +30,8 @@ def base_fit_findings(su: Setup, stage: Stage, judged: list[dict], late: bool = 
         return off_total - val, accept.need(off_total, su.noise_total, selected=False)
     chambers = [findings.Chambers(a.name, tuple(a.params("dead_volumes")), a.param("bulk_modulus"),
                                   feeders(replace(ctx, free=set(stage.free)), a.name,
-                                          (a.node("chamber_a"), a.node("chamber_b"))))
+                                          (a.node("chamber_a"), a.node("chamber_b"))),
+                                  _file_value(ctx, a.param("bulk_modulus")))
                 for a in ctx.parts(R.ACTUATOR)]
     if late:
         found = findings.undrawn_volume(judged, chambers, gain_at)
@@ -44,6 +45,13 @@ def base_fit_findings(su: Setup, stage: Stage, judged: list[dict], late: bool = 
         f["esr_validation_before"] = tables.get(frozenset(q["name"] for q in f["parameters"]), {})
         f["esr_validation_after"] = dict(stage.esr_validation)
     return found
+
+
+def _file_value(ctx, name: str | None) -> float:
+    try:
+        return ctx.value(name) if name else float("nan")
+    except (KeyError, TypeError, ValueError):
+        return float("nan")
 
 
 def still_found(su: Setup, b: Baseline, final: Stage, accepted: list[dict], progress=None) -> list[dict]:

@@ -97,6 +97,7 @@ class Chambers:
     volumes: tuple[str, ...]
     modulus: str | None = None
     feeders: tuple[tuple[Feeder, ...], ...] = ()
+    modulus_file: float = float("nan")     # the file's bulk modulus (used when it is not free)
 
 
 def fluid_compliance_excess(judged: list[dict], actuators: list[Chambers], gain_of) -> list[dict]:
@@ -191,7 +192,7 @@ def net_of_feeders(act: Chambers, js: list[dict], rows: dict[str, dict]) -> list
             out.append(j)
             continue
         mod = rows.get(act.modulus) if act.modulus else None
-        beta = mod["value"] if mod else float("nan")
+        beta = mod["value"] if mod else act.modulus_file
         taken = 0.0
         for f in side:
             v = rows.get(f.volume)
