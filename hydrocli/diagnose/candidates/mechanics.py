@@ -57,7 +57,8 @@ class MechanicsFamily(Family):
         # coupling's stiffness AND damping are identified (log scale): a fixed damper sized for
         # a stiff link would overdamp a soft one and hide it. Probes where a link is visible
         # (a mode at some 10–30 Hz for the identified mass or inertia). Bounds scale with the
-        # load (k/m from (0.5 Hz)² to (5 kHz)²), equal to the fixed ones for a 100 kg load.
+        # load (k/m from 10³ to 10⁸ s⁻²: the load alone on the link in a mode from 5 Hz to 1.6 kHz),
+        # equal to the fixed ones for a 100 kg load.
         k_probe = _probe_stiffness(0.3 * m)
         c0 = 0.2 * (1e7 * 0.1 * m) ** 0.5
         s = m / 100.0
