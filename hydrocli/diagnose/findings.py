@@ -27,8 +27,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .sides import Feeder
-
 Z_MIN = 3.0          # a finding must sit this many (inflated) standard errors from "off"
 MISMATCH_ESR = 1.0   # % validation ESR above the noise floor that the benchmark calls detectable
 BEYOND = 0.05        # held-out positions further than this share of the training span outside it
@@ -86,6 +84,17 @@ def base_fit_findings(judged: list[dict], offs: dict[str, OffValue], gain_of) ->
                       "description": f"the base fit moved {', '.join(j['name'] for j, _ in moved)} off its "
                                      f"'no effect' value to a well-determined one the held-out data need"})
     return found
+
+
+@dataclass(frozen=True)
+class Feeder:
+    """A free volume on a chamber's side of the circuit (found by :func:`.sides.feeders`): its
+    volume and bulk-modulus parameters, and their file values."""
+
+    volume: str
+    modulus: str
+    volume_file: float
+    modulus_file: float
 
 
 @dataclass(frozen=True)

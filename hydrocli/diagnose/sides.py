@@ -18,22 +18,11 @@ rod-side chamber that pilots the valve is not joined to the piston-side line thr
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from ..components import roles as R
 from ..components.base import Domain
 from ..model.builder import stamp
 from .candidates import Context
-
-
-@dataclass(frozen=True)
-class Feeder:
-    """A volume on a chamber's side: its volume and bulk-modulus parameters, their file values."""
-
-    volume: str
-    modulus: str
-    volume_file: float
-    modulus_file: float
+from .findings import Feeder
 
 
 def feeders(ctx: Context, actuator: str, chamber_nodes: tuple[str | None, ...]) -> tuple[tuple[Feeder, ...], ...]:

@@ -9,7 +9,8 @@ import pytest
 from hydrocli.components import roles as R
 from hydrocli.diagnose import findings
 from hydrocli.diagnose.candidates import Context
-from hydrocli.diagnose.sides import Feeder, feeders
+from hydrocli.diagnose.findings import Feeder
+from hydrocli.diagnose.sides import feeders
 from hydrocli.netlist.loader import load_netlist, load_netlist_text
 
 ROOT = Path(__file__).resolve().parents[2]
