@@ -8,7 +8,7 @@ from dataclasses import replace
 from ..components import roles as R
 from . import accept, findings, residuals
 from .candidates import catalogue
-from .sides import feeders
+from .sides import feeders, file_value
 from .stage import Baseline, Setup, Stage, context, log
 
 
@@ -28,10 +28,9 @@ def base_fit_findings(su: Setup, stage: Stage, judged: list[dict], late: bool = 
         tables[frozenset(values)] = residuals.esr_table(model, su.validate, Y, su.outputs)
         off_total = residuals.total(tables[frozenset(values)])
         return off_total - val, accept.need(off_total, su.noise_total, selected=False)
-    chambers = [findings.Chambers(a.name, tuple(a.params("dead_volumes")), a.param("bulk_modulus"),
-                                  feeders(replace(ctx, free=set(stage.free)), a.name,
-                                          (a.node("chamber_a"), a.node("chamber_b"))),
-                                  _file_value(ctx, a.param("bulk_modulus")))
+    sides = feeders(replace(ctx, free=set(stage.free)))
+    chambers = [findings.Chambers(a.name, tuple(a.params("dead_volumes")), a.param("bulk_modulus"), sides[a.name],
+                                  file_value(ctx, a.param("bulk_modulus")))
                 for a in ctx.parts(R.ACTUATOR)]
     if late:
         found = findings.undrawn_volume(judged, chambers, gain_at)
@@ -45,13 +44,6 @@ def base_fit_findings(su: Setup, stage: Stage, judged: list[dict], late: bool = 
         f["esr_validation_before"] = tables.get(frozenset(q["name"] for q in f["parameters"]), {})
         f["esr_validation_after"] = dict(stage.esr_validation)
     return found
-
-
-def _file_value(ctx, name: str | None) -> float:
-    try:
-        return ctx.value(name) if name else float("nan")
-    except (KeyError, TypeError, ValueError):
-        return float("nan")
 
 
 def still_found(su: Setup, b: Baseline, final: Stage, accepted: list[dict], progress=None) -> list[dict]:

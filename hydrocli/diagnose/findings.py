@@ -195,13 +195,13 @@ def net_of_feeders(act: Chambers, js: list[dict], rows: dict[str, dict]) -> list
     missing (dev counterbalanced lift, null case: V_A0 ×1.70 while the line's 0.3 L went to
     its 0.05 L bound at a stiffer modulus, ×1.09 net). Only a loss counts: a feeder the fit
     grew is not chamber volume. Rows without feeders come back unchanged."""
+    mod = rows.get(act.modulus) if act.modulus else None
+    beta = mod["value"] if mod else act.modulus_file
     out = []
     for j, side in zip(js, act.feeders or [()] * len(js)):
         if not side:
             out.append(j)
             continue
-        mod = rows.get(act.modulus) if act.modulus else None
-        beta = mod["value"] if mod else act.modulus_file
         taken = 0.0
         for f in side:
             v = rows.get(f.volume)
@@ -211,7 +211,7 @@ def net_of_feeders(act: Chambers, js: list[dict], rows: dict[str, dict]) -> list
             b_fit = b["value"] if b else b_file
             taken += f.volume_file / b_file - v_fit / b_fit
         taken = taken * beta if np.isfinite(beta) and np.isfinite(taken) else 0.0
-        out.append(dict(j, value=j["value"] - max(taken, 0.0)) if taken > 0 else j)
+        out.append(dict(j, value=j["value"] - taken) if taken > 0 else j)
     return out
 
 

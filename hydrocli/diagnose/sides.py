@@ -25,44 +25,53 @@ from .candidates import Context
 from .findings import Feeder
 
 
-def feeders(ctx: Context, actuator: str, chamber_nodes: tuple[str | None, ...]) -> tuple[tuple[Feeder, ...], ...]:
-    """For each node of ``chamber_nodes`` (an actuator's chambers, in its ``dead_volumes``
-    order), the free volumes on its side of the circuit (module docstring)."""
+def feeders(ctx: Context) -> dict[str, tuple[tuple[Feeder, ...], ...]]:
+    """{actuator: for each of its chambers (``chamber_a``, ``chamber_b``: its ``dead_volumes``
+    order), the free volumes on that side of the circuit} (module docstring). The machine is
+    stamped once for all its actuators."""
     asm, _ = stamp(ctx.net)
-    flow: dict[str, set[str]] = {}          # component -> hydraulic nodes where it takes flow
+    joined: dict[str, set[str]] = {}       # hydraulic node -> components taking flow there
+    reach: dict[str, set[str]] = {}        # component -> hydraulic nodes where it takes flow
     for node, info in asm.nodes.items():
         if info.domain != Domain.HYDRAULIC:
             continue
         for comp, expr in info.through:
             if not (expr.op == "const" and expr.args[0] == 0.0):
-                flow.setdefault(comp, set()).add(node)
-    stops = {actuator} | {p.name for role in (R.ACTUATOR, R.METERING_VALVE, R.PRESSURE_SOURCE, R.TANK)
-                          for p in ctx.parts(role)}
-    volumes: dict[str, list] = {}
+                joined.setdefault(node, set()).add(comp)
+                reach.setdefault(comp, set()).add(node)
+    stops = {p.name for role in (R.ACTUATOR, R.METERING_VALVE, R.PRESSURE_SOURCE, R.TANK) for p in ctx.parts(role)}
+    volumes: dict[str, list[Feeder]] = {}
     for p in ctx.parts(R.VOLUME):
         if p.param("volume") in ctx.free:
-            volumes.setdefault(p.node("node"), []).append(p)
-    out = []
-    for start in chamber_nodes:
-        others = {n for n in chamber_nodes if n is not None and n != start}
-        seen, queue, found = {start}, [start] if start is not None else [], []
-        while queue:
-            node = queue.pop()
-            found += [_feeder(ctx, part) for part in volumes.get(node, [])]
-            for comp, nodes in flow.items():
-                if comp in stops or node not in nodes:
-                    continue
-                for nxt in sorted(nodes - seen - others):
-                    seen.add(nxt)
-                    queue.append(nxt)
-        out.append(tuple(found))
-    return tuple(out)
+            volumes.setdefault(p.node("node"), []).append(_feeder(ctx, p))
+    out = {}
+    for act in ctx.parts(R.ACTUATOR):
+        chambers = (act.node("chamber_a"), act.node("chamber_b"))
+        sides = []
+        for start in chambers:
+            others = {n for n in chambers if n is not None and n != start}
+            seen, queue, found = {start}, [start] if start is not None else [], []
+            while queue:
+                node = queue.pop()
+                found += volumes.get(node, [])
+                for comp in sorted(joined.get(node, set()) - stops):
+                    for nxt in sorted(reach[comp] - seen - others):
+                        seen.add(nxt)
+                        queue.append(nxt)
+            sides.append(tuple(found))
+        out[act.name] = tuple(sides)
+    return out
+
+
+def file_value(ctx: Context, name: str | None) -> float:
+    """The file's value of parameter ``name``, NaN when there is none (no such slot, not set)."""
+    try:
+        return ctx.value(name) if name else float("nan")
+    except (KeyError, TypeError, ValueError):
+        return float("nan")
 
 
 def _feeder(ctx: Context, part) -> Feeder:
-    vol, mod = part.param("volume"), part.param("bulk_modulus") or ""
-    try:
-        beta = ctx.value(mod)
-    except (KeyError, TypeError, ValueError):     # no modulus slot, or not set: the chamber's is used
-        beta = float("nan")
-    return Feeder(vol, mod, ctx.value(vol), beta)
+    mod = part.param("bulk_modulus")
+    # no modulus slot, or not set: NaN, and the chamber's modulus stands in (findings.net_of_feeders)
+    return Feeder(part.param("volume"), mod or "", ctx.value(part.param("volume")), file_value(ctx, mod))

@@ -22,8 +22,7 @@ def _free(net):
 
 def _sides(net):
     ctx = Context(net, _free(net))
-    act = ctx.parts(R.ACTUATOR)[0]
-    return feeders(ctx, act.name, (act.node("chamber_a"), act.node("chamber_b")))
+    return feeders(ctx)[ctx.parts(R.ACTUATOR)[0].name]
 
 
 def test_the_line_beyond_a_counterbalance_valve_feeds_the_piston_side_only():
