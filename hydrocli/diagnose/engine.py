@@ -147,6 +147,14 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     candidates accepted earlier and withdrawn since (:func:`backward`), not offered again.
     ``readings``: effects fitted whatever they screen (:func:`shortlist`)."""
     train, validate, outputs = su.train, su.validate, su.outputs
+    first = _first_gain(accepted)
+    val = residuals.total(stage.esr_validation)
+    if first is not None and floor is None and not accept.within_reach(val, su.noise_total, first):
+        need = accept.need(val, su.noise_total, later=True, first_gain=first)
+        log(progress, f"  validation ESR {val:.3g} % is {val - su.noise_total:.3g} % above the noise floor "
+                      f"({su.noise_total:.3g} %): no further effect can gain the {need:.3g} % it needs — done")
+        return Round([], stopped={"round": round_ + 1, "esr_validation": val, "noise_floor": su.noise_total,
+                                  "noise_band": need})
     cands, skipped = catalogue(context(su, stage))
     done = {a["key"] for a in accepted if "key" in a} | set(withdrawn)
     found = {(a["effect"], a["component"]) for a in accepted}
@@ -312,11 +320,9 @@ def _judge(c: Candidate, score: dict, f: dict | None, round_: int, ssr0: float, 
            "screening_explained": score["dr2"], "score": score["dr2"], "evidence": _evidence(c, score, where)}
     passed = False
     if f is not None and f.get("error") is None:
-        cand_acc = [a for a in accepted if a.get("source") == "candidate"]
-        first_gain = (residuals.total(cand_acc[0]["esr_validation_before"])
-                      - residuals.total(cand_acc[0]["esr_validation_after"])) if cand_acc else None
+        first_gain = _first_gain(accepted)
         verdict = accept.judge(c, f, ssr0, n_eff, val0, residuals.total(f["esr_validation"]), noise_total,
-                               later=bool(cand_acc), first_gain=first_gain, ceiling=ceiling)
+                               later=first_gain is not None, first_gain=first_gain, ceiling=ceiling)
         row.update(score=max(1.0 - f["cost"] / ssr0, 0.0), fitted=True, **verdict,
                    esr_validation_after=f["esr_validation"], parameters=_new_params(c, f))
         row["evidence"] += (f"; re-identified: train SSR −{100 * row['score']:.1f} %, ΔBIC {verdict['delta_bic']:+.0f}, "
@@ -327,6 +333,15 @@ def _judge(c: Candidate, score: dict, f: dict | None, round_: int, ssr0: float, 
     if score["error"]:
         row["error"] = score["error"]
     return row, passed
+
+
+def _first_gain(accepted: list[dict]) -> float | None:
+    """The held-out gain of the first effect a round accepted (None before one was): a later
+    effect is judged against it (:func:`accept.need`)."""
+    cand_acc = [a for a in accepted if a.get("source") == "candidate"]
+    if not cand_acc:
+        return None
+    return residuals.total(cand_acc[0]["esr_validation_before"]) - residuals.total(cand_acc[0]["esr_validation_after"])
 
 
 def _decide_polished(su: Setup, stage: Stage, win, rival, texts: dict, n_eff: float, ssr0: dict, band: float,
@@ -441,6 +456,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
     stage, accepted, rows, skipped, history, ambiguous = b.stage, list(b.found), [], [], [], []
     built, withdrawn = {}, []      # the accepted candidates by key; the effects withdrawn since
     last = []                      # the rows of a round that accepted nothing: fitted on top of the final model
+    stopped = None                 # why the last round fitted nothing: the model is at the noise floor
     parallel = st.jobs > 1 or st.scheduler
     with (executor(st.jobs, st.scheduler) if parallel else nullcontext(None)) as pool:
         for round_ in range(st.max_effects):
@@ -463,7 +479,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
             if rnd.ambiguous:
                 ambiguous.append(rnd.ambiguous)
             if rnd.accepted is None:
-                last = rnd.rows
+                last, stopped = rnd.rows, rnd.stopped
                 break
             accepted.append(rnd.accepted)
             built[rnd.accepted["key"]] = rnd.candidate
@@ -475,6 +491,8 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
         accepted = base_findings.still_found(su, b, stage, accepted, progress)
     accepted = accepted + base_findings.late_findings(su, b, stage, accepted, progress, last)
     data = conclude(su, b, stage, accepted, rows, skipped, train_paths, validate_paths, t_start)
+    if stopped:
+        data["stopped_at_noise_floor"] = stopped
     if withdrawn:
         data["withdrawn"] = [{k: v for k, v in w.items() if k != "key"} for w in withdrawn]
     if ambiguous:

@@ -96,6 +96,7 @@ class Round:
     skipped: list[dict] = field(default_factory=list)
     ambiguous: dict | None = None    # the accepted effect and one the data cannot tell from it
     candidate: Candidate | None = None   # the accepted one's candidate (to rebuild it elsewhere: backward.backward)
+    stopped: dict | None = None      # not run: the model is within reach of the noise floor (accept.within_reach)
 
 
 @dataclass

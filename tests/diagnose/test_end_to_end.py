@@ -62,7 +62,7 @@ def case(tmp_path_factory):
 def test_diagnose_names_coulomb_friction_and_improves_validation(case):
     d, base = case
     diag = diagnose(base, [d / "train.csv"], [d / "validate.csv"],
-                    Settings(max_effects=1, jobs=1, top=2, base_evals=15, candidate_evals=12,
+                    Settings(max_effects=2, jobs=1, top=2, base_evals=15, candidate_evals=12,
                              only=("coulomb_friction", "internal_leakage", "entrained_air", "valve_overlap")))
     data = diag.data
     assert data["verdict"] == "missing_physics"
@@ -73,6 +73,10 @@ def test_diagnose_names_coulomb_friction_and_improves_validation(case):
     before, after = acc["esr_validation_before"], acc["esr_validation_after"]
     assert sum(after.values()) < 0.5 * sum(before.values())
     assert data["ranking"][0]["effect"] == "coulomb_friction"
+    # with the friction in, the held-out error is at the noise floor: a second round could not
+    # pass rule 2 and is not run (accept.within_reach)
+    stop = data["stopped_at_noise_floor"]
+    assert stop["round"] == 2 and stop["esr_validation"] < 1.8 * stop["noise_floor"]
     assert all(r["evidence"] for r in data["ranking"])
     write_json(diag, d / "diagnosis.json")
     write_augmented(diag, d / "augmented.yaml")

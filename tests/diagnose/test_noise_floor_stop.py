@@ -1,0 +1,87 @@
+"""A further round is not run when no effect could pass rule 2 from the current model
+(accept.within_reach): no model predicts held-out data better than their noise, and a second
+effect must gain at least the whole noise floor."""
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from hydrocli.diagnose import accept, engine
+
+
+def test_noise_esr_is_what_a_perfect_model_leaves():
+    """The floor the rule leans on: the second-difference estimate of white noise on a smooth
+    signal equals the ESR of the noise-free signal against the noisy one (within 3 %)."""
+    from hydrocli.diagnose import stats
+    rng = np.random.default_rng(3)
+    t = np.arange(0, 30, 1e-3)
+    s = 1e5 * np.sin(2 * np.pi * 0.4 * t) + 3e4 * np.sin(2 * np.pi * 1.3 * t)
+    y = s + 2e3 * rng.normal(size=t.size)
+    esr_perfect = 100 * np.sum((y - s) ** 2) / np.sum((y - y.mean()) ** 2)
+    assert stats.noise_esr(y) == pytest.approx(esr_perfect, rel=0.03)
+
+
+@pytest.mark.parametrize("first_gain", [None, 0.1, 7.3])
+def test_not_within_reach_means_no_candidate_could_pass(first_gain):
+    """The stop decides exactly what rule 2 would: whenever a further effect is out of reach,
+    every validation ESR at or above FLOOR_SHARE of the floor fails rule 2 (presence); and
+    whenever it is within reach, some such ESR passes."""
+    noise = 0.37
+    for val0 in np.linspace(0.3, 6.0, 200):
+        reach = accept.within_reach(val0, noise, first_gain)
+        best = accept.FLOOR_SHARE * noise
+        _, _, _, reasons = accept.presence(1.0, 0.5, 2, 1e4, val0, best, noise, later=True,
+                                           first_gain=first_gain)
+        passes = not any("validation" in r for r in reasons)
+        assert passes == reach, (val0, reach, reasons)
+
+
+def test_dev_rod_load_link_numbers():
+    """Dev EHA rod–load link (seed 31): after the compliance the summed validation ESR is
+    0.398 % against a floor of 0.373 % (first gain 7.3 %): nothing more can pass. A model at
+    three times the floor is still worth a round."""
+    assert not accept.within_reach(0.398, 0.373, 7.3)
+    assert not accept.within_reach(0.398, 0.373, 0.05)
+    assert accept.within_reach(1.2, 0.373, 0.5)
+    assert not accept.within_reach(1.2, 0.373, 4.0)   # a later effect must matter next to the first
+
+
+def _setup_stage(val, noise):
+    su = SimpleNamespace(train=[], validate=[], outputs=["P1"], noise_total=noise)
+    stage = SimpleNamespace(esr_validation={"P1": val})
+    return su, stage
+
+
+def _accepted(before, after):
+    return [{"source": "candidate", "effect": "load_compliance", "component": "cylinder",
+             "esr_validation_before": {"P1": before}, "esr_validation_after": {"P1": after}}]
+
+
+def test_round_step_stops_before_screening(monkeypatch):
+    """At the floor, round_step returns a stopped round without building the catalogue."""
+    def no_catalogue(*a, **k):
+        raise AssertionError("the catalogue was built")
+    monkeypatch.setattr(engine, "catalogue", no_catalogue)
+    monkeypatch.setattr(engine, "context", lambda *a, **k: None)
+    su, stage = _setup_stage(0.398, 0.373)
+    rnd = engine.round_step(su, stage, _accepted(7.7, 0.398), 1, None, None, {})
+    assert rnd.accepted is None and rnd.rows == []
+    assert rnd.stopped == {"round": 2, "esr_validation": 0.398, "noise_floor": 0.373,
+                           "noise_band": pytest.approx(0.25 * (7.7 - 0.398))}
+
+
+def test_round_step_runs_when_an_effect_could_still_pass(monkeypatch):
+    """Far above the floor, or before any effect was accepted, the round goes on."""
+    class Built(Exception):
+        pass
+
+    def catalogue(*a, **k):
+        raise Built
+    monkeypatch.setattr(engine, "catalogue", catalogue)
+    monkeypatch.setattr(engine, "context", lambda *a, **k: None)
+    su, stage = _setup_stage(2.0, 0.373)
+    with pytest.raises(Built):
+        engine.round_step(su, stage, _accepted(4.0, 2.0), 1, None, None, {})
+    su, stage = _setup_stage(0.38, 0.373)        # round 1 from the base: always screened
+    with pytest.raises(Built):
+        engine.round_step(su, stage, [], 0, None, None, {})
