@@ -147,15 +147,17 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     candidates accepted earlier and withdrawn since (:func:`backward`), not offered again.
     ``readings``: effects fitted whatever they screen (:func:`shortlist`)."""
     train, validate, outputs = su.train, su.validate, su.outputs
+    cands, skipped = catalogue(context(su, stage))
     first = _first_gain(accepted)
     val = residuals.total(stage.esr_validation)
-    if first is not None and floor is None and not accept.within_reach(val, su.noise_total, first):
-        need = accept.need(val, su.noise_total, later=True, first_gain=first)
-        log(progress, f"  validation ESR {val:.3g} % is {val - su.noise_total:.3g} % above the noise floor "
-                      f"({su.noise_total:.3g} %): no further effect can gain the {need:.3g} % it needs — done")
-        return Round([], stopped={"round": round_ + 1, "esr_validation": val, "noise_floor": su.noise_total,
-                                  "noise_band": need})
-    cands, skipped = catalogue(context(su, stage))
+    if floor is None and not accept.within_reach(val, su.noise_total, first is not None, first):
+        need = accept.need(val, su.noise_total, later=first is not None, first_gain=first)
+        log(progress, f"  validation ESR {val:.3g} % is {val - su.noise_total:+.3g} % from the noise floor "
+                      f"({su.noise_total:.3g} %): no {'further ' if first is not None else ''}effect can gain "
+                      f"the {need:.3g} % it needs — not screened")
+        return Round([], skipped=[{"effect": s.effect, "reason": s.reason} for s in skipped],
+                     stopped={"round": round_ + 1, "esr_validation": val, "noise_floor": su.noise_total,
+                              "noise_band": need})
     done = {a["key"] for a in accepted if "key" in a} | set(withdrawn)
     found = {(a["effect"], a["component"]) for a in accepted}
     # an effect already accepted is not offered again, except in its OTHER forms on the same

@@ -135,6 +135,11 @@ def console_summary(diag) -> str:
                          f"the training's {r['train'][0]:.4g} … {r['train'][1]:.4g}: what is missing may act only "
                          "where training never went (an end stop, a position-dependent load) — no fit to these "
                          "training data can find it. Add a training recording that covers that range.")
+    elif not d["accepted"] and d.get("stopped_at_noise_floor"):
+        stop = d["stopped_at_noise_floor"]
+        lines.append(f"No missing physics found: the base model predicts the held-out data to the noise (validation "
+                     f"ESR {stop['esr_validation']:.3g} % against a noise floor of {stop['noise_floor']:.3g} %), so no "
+                     f"effect could gain the {stop['noise_band']:.3g} % it must; no candidate was screened.")
     elif not d["accepted"]:
         best = d["ranking"][0] if d["ranking"] else None
         tail = f" (best candidate {best['effect']}: {'; '.join(best.get('reasons', [])) or 'not re-identified'})" \

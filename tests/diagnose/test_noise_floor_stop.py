@@ -21,29 +21,34 @@ def test_noise_esr_is_what_a_perfect_model_leaves():
     assert stats.noise_esr(y) == pytest.approx(esr_perfect, rel=0.03)
 
 
-@pytest.mark.parametrize("first_gain", [None, 0.1, 7.3])
-def test_not_within_reach_means_no_candidate_could_pass(first_gain):
-    """The stop decides exactly what rule 2 would: whenever a further effect is out of reach,
-    every validation ESR at or above FLOOR_SHARE of the floor fails rule 2 (presence); and
-    whenever it is within reach, some such ESR passes."""
+@pytest.mark.parametrize("later,first_gain", [(False, None), (True, 0.1), (True, 7.3)])
+def test_not_within_reach_means_no_candidate_could_pass(later, first_gain):
+    """The stop decides exactly what rule 2 would: whenever an effect is out of reach, every
+    validation ESR at or above FLOOR_SHARE of the floor fails rule 2 (presence); whenever it
+    is within reach, some such ESR passes."""
     noise = 0.37
     for val0 in np.linspace(0.3, 6.0, 200):
-        reach = accept.within_reach(val0, noise, first_gain)
+        reach = accept.within_reach(val0, noise, later, first_gain)
         best = accept.FLOOR_SHARE * noise
-        _, _, _, reasons = accept.presence(1.0, 0.5, 2, 1e4, val0, best, noise, later=True,
+        _, _, _, reasons = accept.presence(1.0, 0.5, 2, 1e4, val0, best, noise, later=later,
                                            first_gain=first_gain)
         passes = not any("validation" in r for r in reasons)
         assert passes == reach, (val0, reach, reasons)
 
 
-def test_dev_rod_load_link_numbers():
+def test_dev_numbers():
     """Dev EHA rod–load link (seed 31): after the compliance the summed validation ESR is
     0.398 % against a floor of 0.373 % (first gain 7.3 %): nothing more can pass. A model at
-    three times the floor is still worth a round."""
-    assert not accept.within_reach(0.398, 0.373, 7.3)
-    assert not accept.within_reach(0.398, 0.373, 0.05)
-    assert accept.within_reach(1.2, 0.373, 0.5)
-    assert not accept.within_reach(1.2, 0.373, 4.0)   # a later effect must matter next to the first
+    three times the floor is still worth a round. Dev EHA null (seed 33): the base fit at
+    0.577 % against 0.573 %: no first effect can gain a quarter of the floor; the counterbalanced
+    lift's null (seed 30) at 0.139 % against 0.056 % is screened."""
+    assert not accept.within_reach(0.398, 0.373, True, 7.3)
+    assert not accept.within_reach(0.398, 0.373, True, 0.05)
+    assert accept.within_reach(1.2, 0.373, True, 0.5)
+    assert not accept.within_reach(1.2, 0.373, True, 4.0)   # a later effect must matter next to the first
+    assert not accept.within_reach(0.577, 0.573)
+    assert accept.within_reach(0.139, 0.056)
+    assert accept.within_reach(0.62, 0.573)    # 8 % above the floor: a first effect may still pass
 
 
 def _setup_stage(val, noise):
@@ -57,31 +62,33 @@ def _accepted(before, after):
              "esr_validation_before": {"P1": before}, "esr_validation_after": {"P1": after}}]
 
 
-def test_round_step_stops_before_screening(monkeypatch):
-    """At the floor, round_step returns a stopped round without building the catalogue."""
-    def no_catalogue(*a, **k):
-        raise AssertionError("the catalogue was built")
-    monkeypatch.setattr(engine, "catalogue", no_catalogue)
+@pytest.fixture
+def no_candidates(monkeypatch):
+    """An empty catalogue with one effect the machine cannot carry: round_step returns right
+    after its stop check, screening nothing."""
+    skipped = [SimpleNamespace(effect="end_stop", reason="no stop parameter")]
+    monkeypatch.setattr(engine, "catalogue", lambda *a, **k: ([], skipped))
     monkeypatch.setattr(engine, "context", lambda *a, **k: None)
+
+
+def test_round_step_stops_at_the_floor(no_candidates):
     su, stage = _setup_stage(0.398, 0.373)
     rnd = engine.round_step(su, stage, _accepted(7.7, 0.398), 1, None, None, {})
     assert rnd.accepted is None and rnd.rows == []
     assert rnd.stopped == {"round": 2, "esr_validation": 0.398, "noise_floor": 0.373,
                            "noise_band": pytest.approx(0.25 * (7.7 - 0.398))}
+    assert rnd.skipped == [{"effect": "end_stop", "reason": "no stop parameter"}]
+    su, stage = _setup_stage(0.577, 0.573)         # round 1 of a null at the floor
+    rnd = engine.round_step(su, stage, [], 0, None, None, {})
+    assert rnd.stopped["round"] == 1 and rnd.stopped["noise_band"] == pytest.approx(0.25 * 0.573)
 
 
-def test_round_step_runs_when_an_effect_could_still_pass(monkeypatch):
-    """Far above the floor, or before any effect was accepted, the round goes on."""
-    class Built(Exception):
-        pass
-
-    def catalogue(*a, **k):
-        raise Built
-    monkeypatch.setattr(engine, "catalogue", catalogue)
-    monkeypatch.setattr(engine, "context", lambda *a, **k: None)
+def test_round_step_goes_on_when_an_effect_could_still_pass(no_candidates):
+    """Far above the floor, the round goes on (here to its empty catalogue)."""
     su, stage = _setup_stage(2.0, 0.373)
-    with pytest.raises(Built):
-        engine.round_step(su, stage, _accepted(4.0, 2.0), 1, None, None, {})
-    su, stage = _setup_stage(0.38, 0.373)        # round 1 from the base: always screened
-    with pytest.raises(Built):
-        engine.round_step(su, stage, [], 0, None, None, {})
+    assert engine.round_step(su, stage, _accepted(4.0, 2.0), 1, None, None, {}).stopped is None
+    su, stage = _setup_stage(0.8, 0.573)
+    assert engine.round_step(su, stage, [], 0, None, None, {}).stopped is None
+    # from a restrained base (a floor model given) the round always runs
+    su, stage = _setup_stage(0.577, 0.573)
+    assert engine.round_step(su, stage, [], 0, None, None, {}, floor=stage).stopped is None
