@@ -83,6 +83,11 @@ def _ranking(diag):
         dbic = f"{r['delta_bic']:+.0f}" if "delta_bic" in r else "-"
         rows.append(f"{r['round']:>5} {r['effect']:<28} {r['component'][:22]:<22} {100 * r['score']:>6.1f}% "
                     f"{dbic:>9} {('yes' if r.get('passed') else 'no' if r.get('fitted') else '-'):>5}")
+    stop = d.get("stopped_at_noise_floor")
+    if stop:
+        rows += ["", f"Round {stop['round']} not screened: validation ESR {stop['esr_validation']:.3g} % against a noise "
+                     f"floor of {stop['noise_floor']:.3g} %;", f"no effect could gain the {stop['noise_band']:.3g} % "
+                     "it needs (no model predicts held-out data better than their noise)."]
     rows += ["", "Skipped:"] + [f"  {s['effect']}: {s['reason']}" for s in d["skipped"]][:20]
     ax.text(0, 1, "Candidate ranking (score: explained share of the residual — screening, or train SSR "
                   "reduction when re-identified)\n\n" + "\n".join(rows), va="top", family="monospace", fontsize=6.5)

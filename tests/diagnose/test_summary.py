@@ -55,3 +55,20 @@ def test_summary_says_what_grown_volumes_are_and_what_else_they_could_be():
     assert "Line dynamics on 'vane' is present: the base fit found it (vane.V_1 = 0.00013" in text
     assert "named line_dynamics: from the drawn volumes line_dynamics fits the training data better" in text
     assert "It could also be entrained air (the held-out data do not tell them apart)." in text
+
+
+def test_summary_and_report_say_when_nothing_was_screened_at_the_noise_floor():
+    d = _diag([])
+    d.data.update(accepted=[], verdict="none", effects=["none"], skipped=[],
+                  stopped_at_noise_floor={"round": 1, "esr_validation": 0.189, "noise_floor": 0.184,
+                                          "noise_band": 0.046})
+    text = console_summary(d)
+    assert ("the base model predicts the held-out data to the noise (validation ESR 0.189 % against a noise floor "
+            "of 0.184 %), so no effect could gain the 0.046 % it must; no candidate was screened") in text
+    from hydrocli.report import diagnosis
+    fig = diagnosis._ranking(d)
+    shown = "\n".join(t.get_text() for ax in fig.axes for t in ax.texts)
+    assert "Round 1 not screened: validation ESR 0.189 % against a noise floor of 0.184 %" in shown
+    del d.data["stopped_at_noise_floor"]
+    assert "not screened" not in console_summary(d)
+    assert "not screened" not in "\n".join(t.get_text() for ax in diagnosis._ranking(d).axes for t in ax.texts)
