@@ -95,6 +95,15 @@ def late_findings(su: Setup, b: Baseline, final: Stage, accepted: list[dict], pr
     return out
 
 
+def volumes_to_name(su: Setup, b: Baseline, stage: Stage) -> bool:
+    """Does ``stage``'s fit show chamber volume the drawing leaves out on one side
+    (:func:`late_findings` would list it)? Then a round from ``stage`` must be fitted even when
+    no effect could pass on the held-out data (:func:`accept.within_reach`): its fits of the
+    finding's readings (air, a hose) name it (:func:`labelled`)."""
+    judged = b.judged if stage is b.stage else judged_on(b, stage)
+    return bool(base_fit_findings(su, stage, judged, late=True))
+
+
 FROM_DRAWING = ("from the drawn volumes", "fits the training data better than the grown volumes")
 ON_TOP = ("on top of the grown volume", "improves the training fit")
 

@@ -141,16 +141,18 @@ def _bounds(model, res) -> tuple[dict[str, tuple[float, float]], set[str]]:
 # -- step 3 -------------------------------------------------------------------------------
 def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: Settings, pool,
                located: dict, progress=None, floor: Stage | None = None, withdrawn: frozenset = frozenset(),
-               readings: frozenset = frozenset()) -> Round:
+               readings: frozenset = frozenset(), must_fit=lambda: False) -> Round:
     """One round from ``stage``. ``floor``: a model every candidate must beat as well — the
     free base when ``stage`` is the restrained one (:mod:`.restrain`). ``withdrawn``: keys of
     candidates accepted earlier and withdrawn since (:func:`backward`), not offered again.
-    ``readings``: effects fitted whatever they screen (:func:`shortlist`)."""
+    ``readings``: effects fitted whatever they screen (:func:`shortlist`). The round ends before
+    screening when no effect can pass (:func:`accept.within_reach`), unless ``must_fit()``
+    (asked only then): its fits have to name a base-fit finding all the same."""
     train, validate, outputs = su.train, su.validate, su.outputs
     cands, skipped = catalogue(context(su, stage))
     first = _first_gain(accepted)
     val = residuals.total(stage.esr_validation)
-    if floor is None and not accept.within_reach(val, su.noise_total, first is not None, first):
+    if floor is None and not accept.within_reach(val, su.noise_total, first is not None, first) and not must_fit():
         need = accept.need(val, su.noise_total, later=first is not None, first_gain=first)
         log(progress, f"  validation ESR {val:.3g} % is {val - su.noise_total:+.3g} % from the noise floor "
                       f"({su.noise_total:.3g} %): no {'further ' if first is not None else ''}effect can gain "
@@ -474,7 +476,8 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                     rnd = None
             if rnd is None:
                 rnd = round_step(su, stage, accepted, round_, st, pool, b.located, progress,
-                                 withdrawn=frozenset(w["key"] for w in withdrawn))
+                                 withdrawn=frozenset(w["key"] for w in withdrawn),
+                                 must_fit=lambda: base_findings.volumes_to_name(su, b, stage))
                 rows.extend(rnd.rows)
             if round_ == 0:
                 skipped = rnd.skipped

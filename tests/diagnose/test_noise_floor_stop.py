@@ -92,3 +92,28 @@ def test_round_step_goes_on_when_an_effect_could_still_pass(no_candidates):
     # from a restrained base (a floor model given) the round always runs
     su, stage = _setup_stage(0.577, 0.573)
     assert engine.round_step(su, stage, [], 0, None, None, {}, floor=stage).stopped is None
+
+
+def test_a_round_that_must_name_a_grown_volume_is_fitted_at_the_floor(no_candidates):
+    """A one-sided grown chamber volume (a hose the file leaves out, put into V_A0 by the base
+    fit, which then predicts to the noise) is named by the round's fits of its readings (air,
+    a hose: base_findings.labelled): that round runs even though no effect can pass."""
+    su, stage = _setup_stage(0.577, 0.573)
+    assert engine.round_step(su, stage, [], 0, None, None, {}, must_fit=lambda: True).stopped is None
+    assert engine.round_step(su, stage, [], 0, None, None, {}, must_fit=lambda: False).stopped is not None
+
+
+def test_volumes_to_name_asks_the_late_rule_on_the_round_s_model(monkeypatch):
+    from hydrocli.diagnose import base_findings, findings
+    vols = ("cylinder.V_A0", "cylinder.V_B0")
+
+    def late_rule(su, stage, judged, late=False):
+        assert late
+        return findings.undrawn_volume(judged, [findings.Chambers("cylinder", vols)], lambda v: (1.0, 0.1))
+    monkeypatch.setattr(base_findings, "base_fit_findings", late_rule)
+
+    def judged(values):
+        return [{"name": n, "value": v, "initial": v0, "stderr": 1e-6} for n, v, v0 in zip(vols, values, (2e-4, 6e-4))]
+    base = SimpleNamespace(p=None)
+    assert base_findings.volumes_to_name(None, SimpleNamespace(judged=judged((6.1e-4, 6.6e-4)), stage=base), base)
+    assert not base_findings.volumes_to_name(None, SimpleNamespace(judged=judged((2.1e-4, 6.1e-4)), stage=base), base)
