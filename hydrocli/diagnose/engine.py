@@ -150,16 +150,16 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     (asked only then): its fits have to name a base-fit finding all the same."""
     train, validate, outputs = su.train, su.validate, su.outputs
     cands, skipped = catalogue(context(su, stage))
+    out = Round([], skipped=[{"effect": s.effect, "reason": s.reason} for s in skipped])
     first = _first_gain(accepted)
-    val = residuals.total(stage.esr_validation)
-    if floor is None and not accept.within_reach(val, su.noise_total, first is not None, first) and not must_fit():
-        need = accept.need(val, su.noise_total, later=first is not None, first_gain=first)
+    later, val = first is not None, residuals.total(stage.esr_validation)
+    if floor is None and not accept.within_reach(val, su.noise_total, later, first) and not must_fit():
+        need = accept.need(val, su.noise_total, later=later, first_gain=first)
         log(progress, f"  validation ESR {val:.3g} % is {val - su.noise_total:+.3g} % from the noise floor "
-                      f"({su.noise_total:.3g} %): no {'further ' if first is not None else ''}effect can gain "
+                      f"({su.noise_total:.3g} %): no {'further ' if later else ''}effect can gain "
                       f"the {need:.3g} % it needs — not screened")
-        return Round([], skipped=[{"effect": s.effect, "reason": s.reason} for s in skipped],
-                     stopped={"round": round_ + 1, "esr_validation": val, "noise_floor": su.noise_total,
-                              "noise_band": need})
+        out.stopped = {"round": round_ + 1, "esr_validation": val, "noise_floor": su.noise_total, "noise_band": need}
+        return out
     done = {a["key"] for a in accepted if "key" in a} | set(withdrawn)
     found = {(a["effect"], a["component"]) for a in accepted}
     # an effect already accepted is not offered again, except in its OTHER forms on the same
@@ -168,7 +168,6 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     # before unrelated candidates mop it up
     cands = [c for c in cands if c.key not in done and (not st.only or c.effect in st.only)
              and (c.effect not in {a["effect"] for a in accepted} or ((c.effect, c.component) in found and c.variant))]
-    out = Round([], skipped=[{"effect": s.effect, "reason": s.reason} for s in skipped])
     texts = {}
     for c in cands:
         try:
