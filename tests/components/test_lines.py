@@ -56,6 +56,38 @@ components:
     assert w == pytest.approx(factor / math.sqrt(I_HOSE * C_HOSE), rel=0.005)
 
 
+@pytest.mark.parametrize("split", [0.2, 0.9])
+def test_pi_split_moves_the_end_capacitance(split):
+    """π lump with ``split`` s: (1 − s)·C at B. Source at A, B blocked: B rings at
+    1/sqrt(I·(1 − s)·C) (0.5 is the symmetric π of the test above); both ends blocked, the
+    two end capacitances ring through the inertance at sqrt((1/C_A + 1/C_B)/I) while the
+    stored volume C_A·p_A + C_B·p_B stays what it was (conservation)."""
+    text = f"""
+name: ring
+components:
+  src: {{type: pressure_source, ports: {{P: a}}, p: 50e5}}
+  hose: {{type: hose, ports: {{A: a, B: b}}, I: {I_HOSE}, C: {C_HOSE}, laminar: 0, arrangement: 0, split: {split},
+          f_max: 1}}
+"""
+    m, tr, _ = run(text, 0.3, n=30001)
+    w = oscillation_frequency(tr.t, col(m, tr, "b.p"))
+    assert w == pytest.approx(1.0 / math.sqrt(I_HOSE * (1.0 - split) * C_HOSE), rel=0.005)
+    c_a, c_b = split * C_HOSE, (1.0 - split) * C_HOSE
+    closed = f"""
+name: closed
+components:
+  hose: {{type: hose, ports: {{A: a, B: b}}, I: {I_HOSE}, C: {C_HOSE}, laminar: 0, arrangement: 0, split: {split},
+          f_max: 1}}
+initial: {{a.p: 80e5, b.p: 20e5}}
+"""
+    m, tr, _ = run(closed, 0.3, n=30001)
+    pa, pb = col(m, tr, "a.p"), col(m, tr, "b.p")
+    w = oscillation_frequency(tr.t, pb)
+    assert w == pytest.approx(math.sqrt((1.0 / c_a + 1.0 / c_b) / I_HOSE), rel=0.005)
+    stored = c_a * pa + c_b * pb
+    assert np.max(np.abs(stored - stored[0])) < 1e-6 * stored[0]
+
+
 def test_t_lump_between_volumes_and_multi_lump_dc():
     """T lump between two held pressures: the internal capacitance C rings against the two
     half-inertances in parallel (I/4), ω = 2/sqrt(I·C); N lumps carry the steady laminar flow

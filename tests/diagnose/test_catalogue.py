@@ -92,19 +92,25 @@ def test_supply_restriction_may_be_a_laminar_line(eha):
 
 def test_line_candidate_is_a_hose_whose_volume_grows_with_its_length(eha):
     """The line candidate inserts a π-lumped hose per work port: length primary (inertance,
-    loss and volume together), its effective bulk modulus (oil and wall) and its bore
-    companions; its capacitance is the hose's own A·l/β, not a fixed extra volume."""
+    loss and volume together), its effective bulk modulus (oil and wall), its bore and where
+    its volume sits (the π's split, started symmetric and also tried with 0.9 of it at the
+    valve, with each bore) companions; its capacitance is the hose's own A·l/β, not a fixed
+    extra volume."""
     net, ctx = eha
     cands, _ = catalogue(ctx)
     line = next(c for c in cands if c.effect == "line_dynamics")
-    assert [p.primary for p in line.params] == [True, False, False] * 2
-    assert [p.name.rsplit(".", 1)[1] for p in line.params] == ["l", "beta", "d"] * 2
+    assert [p.primary for p in line.params] == [True, False, False, False] * 2
+    assert [p.name.rsplit(".", 1)[1] for p in line.params] == ["l", "beta", "d", "split"] * 2
+    split, bore = line.params[3], line.params[2]
+    assert split.start == 0.5 and not split.log and split.bounds[1] >= 0.9
+    assert set(zip(bore.shapes, split.shapes)) == {(d, s) for d in bore.shapes for s in (0.5, 0.9)}
     aug = line.build(net)
     hoses = {n: d for n, d in aug.components.items() if d.type == "hose"}
     assert len(hoses) == 2 and not any(d.type == "volume" and n.startswith("valve_port") for n, d in aug.components.items())
     model = build_model(aug)
     for name in hoses:
-        assert {f"{name}.l", f"{name}.beta", f"{name}.d"} <= set(model.free_params)
+        assert {f"{name}.l", f"{name}.beta", f"{name}.d", f"{name}.split"} <= set(model.free_params)
+        assert aug.components[name].params["arrangement"].value == 0
 
 
 def test_line_candidate_starts_reach_thin_long_and_wide_short_hoses(eha):

@@ -73,7 +73,9 @@ class Hose(Component):
     """Lumped hose between A and B in ``lumps`` segments (seed 002 §2b, eq. 3).
 
     ``arrangement`` 0 = π (C/2N at each end, so both ends are well posed on their own: use it
-    when a valve or orifice connects directly), 1 = L (I, R then C: all capacitance towards B,
+    when a valve or orifice connects directly; ``split`` s moves the end capacitance C/N to
+    s·C/N at A and (1 − s)·C/N at B: where a single lump's volume sits is not known when a
+    manifold or a pipe run holds most of the line's oil at one end), 1 = L (I, R then C: all capacitance towards B,
     the form of seed 002 eq. 6; A must be fed by a source or a node with its own volume),
     2 = T (I/2–C–I/2 per lump, as in seed 002's text; both end nodes need a volume or source).
     States: the branch flows q0…q(N−1) (q(N) for T) and internal pressures p1…. A build
@@ -93,6 +95,9 @@ class Hose(Component):
               bounds=(1e-15, 1e-8)),
         Param("lumps", "1", 1, "number of segments N", structural=True, min=1, max=50),
         Param("arrangement", "1", 0, "0 = π, 1 = L (I then C), 2 = T (I/2, C, I/2)", structural=True, min=0, max=2),
+        Param("split", "1", 0.5, "π only: share of the end capacitance C/N that sits at end A (0.5: the symmetric π; "
+              "towards 1 the line's oil volume sits at A, e.g. a valve manifold or a pipe run there)",
+              min=0.01, max=0.99, bounds=(0.02, 0.98)),
         Param("f_max", "Hz", 50.0, "highest frequency of interest, for the lumping check (seed 002 eq. 3)",
               structural=True, positive=True),
     )
@@ -119,6 +124,11 @@ class Hose(Component):
         c_r = turbulent_coefficient(c)
         self._lumping_check(c, n)
         caps, inert = ladder(arr, n)
+        ends = [caps[0], caps[-1]]
+        if arr == PI:
+            ends = [2.0 * caps[0] * p.split, 2.0 * caps[-1] * (1.0 - p.split)]
+        elif float(c.value("split")) != 0.5:
+            c.warn("split places a π line's end capacitance; it has no effect on an L or T arrangement")
         nodes = [c.across("A")] + [c.state(f"p{k}") for k in range(1, len(caps) - 1)] + [c.across("B")]
         flows = [c.state(f"q{k}") for k in range(len(inert))]
         for k, (q, frac) in enumerate(zip(flows, inert)):
@@ -126,9 +136,9 @@ class Hose(Component):
         for k in range(1, len(caps) - 1):
             c.der(f"p{k}", (flows[k - 1] - flows[k]) / (caps[k] * c_tot))
         if caps[0]:
-            c.capacitance("A", caps[0] * c_tot)
+            c.capacitance("A", ends[0] * c_tot)
         if caps[-1]:
-            c.capacitance("B", caps[-1] * c_tot)
+            c.capacitance("B", ends[1] * c_tot)
         c.through("A", c.let("qA", flows[0]))
         c.through("B", -c.let("qB", flows[-1]))
 
