@@ -90,9 +90,10 @@ def _shapes(params) -> list[dict]:
                    for k in range(max((len(p.shapes) for p in shaped), default=0))]
 
 
-def _log_grid(params, n: int = 4) -> list[dict]:
+def _log_grid(params) -> list[dict]:
     """Extra starts across the PLAUSIBLE range of the primary parameters whose "no effect"
-    value is 0 (geometric points, jointly; companions at their start). A stiffness,
+    value is 0 (geometric points, jointly, as many as the densest of them declares
+    (``NewParam.grid``); companions at their start). A stiffness,
     conductance or overlap started where the outputs hardly depend on it (a rigid link, a
     closed orifice, a zero-lap spool) has no gradient to follow, and re-identified base
     parameters may already mimic a small effect, so the optimiser must be offered starts
@@ -101,6 +102,7 @@ def _log_grid(params, n: int = 4) -> list[dict]:
     if not grid:
         return []
     shapes = _shapes(params)
+    n = max(p.grid for p in grid)
     out = []
     for f in np.linspace(0, 1, n + 2)[1:-1]:
         d = {p.name: p.start for p in params}

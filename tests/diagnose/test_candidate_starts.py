@@ -24,6 +24,9 @@ def test_starts_cover_the_plausible_range():
     assert all(5e-3 < s["o"] < 0.1 and s["g"] == 1e-14 for s in grid)
     gain = NewParam("g_BT", 1.0, (0.3, 3.0), (0.08, 2.0), 1.2, ref=1.0)
     assert _log_grid([gain]) == []
+    # a range of many decades declares more starts; a joint grid takes the densest
+    wide = NewParam("k", 1e9, (1e3, 1e10), (1e3, 5e8), 1e6, True, grid=7)
+    assert len(_log_grid([wide])) == 7 and len(_log_grid([k, wide])) == 7
 
 
 def test_edge_gain_valve_is_registered_with_four_gains():

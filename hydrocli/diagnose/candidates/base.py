@@ -51,6 +51,9 @@ class NewParam:
     seen: tuple[float, float] = ()         # a stop's: the positions recorded (min, max). A stop fitted
                                            # beyond them is pressed by nothing in training: the fit
                                            # withdraws it to its outer bound (workers.withdraw_idle_stops)
+    grid: int = 4                          # how many geometric starts span the plausible range (a primary
+                                           # whose "off" value is 0; workers._log_grid): a range of many
+                                           # decades declares more, so neighbouring starts stay close
     shapes: tuple[float, ...] = ()         # a companion's other typical values: the fit's grid of starts
                                            # (workers._log_grid) is crossed with them (the k-th value of
                                            # every companion together), so an amount is tried with each

@@ -20,6 +20,15 @@ from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 G = 9.81
 PROBE_HZ = 25.0   # Hz: the mode a compliance candidate's screening probe puts its mass in
+# A compliance's stiffness per unit of the load's mass or inertia, k/m in s⁻² (bounds, and the
+# upper end of the plausible range): the load alone on the spring in a mode from 0.5 Hz — a
+# crane's or a loader's boom and its mounting ring at 1–3 Hz — to 1.6 kHz, plausible up to
+# 360 Hz. (Until session 29 from 10³ s⁻², 5 Hz: a counterbalanced lift's 1.8 Hz mount, 2·10⁵ N/m
+# under 1.5 t, ended at that bound and was rejected.) Seven starts span the plausible range
+# (0.8 decade apart, the four of every other effect would leave a decade between them).
+K_PER_MASS = (10.0, 1e8)
+K_PER_MASS_PLAUSIBLE = 5e6
+K_GRID = 7
 
 
 class MechanicsFamily(Family):
@@ -57,13 +66,11 @@ class MechanicsFamily(Family):
         # coupling's stiffness AND damping are identified (log scale): a fixed damper sized for
         # a stiff link would overdamp a soft one and hide it. Probes where a link is visible
         # (a mode at some 10–30 Hz for the identified mass or inertia). Bounds scale with the
-        # load (k/m from 10³ to 10⁸ s⁻²: the load alone on the link in a mode from 5 Hz to 1.6 kHz),
-        # equal to the fixed ones for a 100 kg load.
+        # load (K_PER_MASS).
         k_probe = _probe_stiffness(0.3 * m)
         c0 = 0.2 * (1e7 * 0.1 * m) ** 0.5
         s = m / 100.0
-        params = [NewParam(f"{spring}.{srole.param('stiffness')}", 1e9 * s, (1e5 * s, 1e10 * s), (1e5 * s, 5e8 * s),
-                           k_probe, True),
+        params = [_stiffness(f"{spring}.{srole.param('stiffness')}", m, k_probe),
                   NewParam(f"{damper}.{drole.param('damping')}", c0, (1.0 * s ** 0.5, 1e5 * s ** 0.5),
                            (1.0 * s ** 0.5, 1e5 * s ** 0.5), 0.3 * c0, True, primary=False)]
         # what moves WITH the rod, ahead of the link (piston, rod, a clevis, part of a boom or
@@ -133,7 +140,6 @@ class MechanicsFamily(Family):
         ltype, lrole = ctx.element(R.LOAD, dom)
         stype, srole = ctx.element(R.SPRING, dom)
         dtype, drole = ctx.element(R.DAMPER, dom)
-        s = m / 100.0
         # what moves on the mount (the body, a bracket, part of a boom) is not known: its mass
         # or inertia is identified with the stiffness and the damping (log scale). A frame fixed
         # at twice the load rings at a third of the frequency of a housing a quarter of it and
@@ -143,8 +149,7 @@ class MechanicsFamily(Family):
         m_f = 0.3 * m
         k_probe = _probe_stiffness(m_f)
         c0 = 0.2 * (k_probe * m_f) ** 0.5
-        params = [NewParam(f"{sp}.{srole.param('stiffness')}", 1e9 * s, (1e5 * s, 1e10 * s), (1e5 * s, 5e8 * s),
-                           k_probe, True),
+        params = [_stiffness(f"{sp}.{srole.param('stiffness')}", m, k_probe),
                   NewParam(f"{fm}.{lrole.param('inertia')}", m_f, (0.01 * m, 5.0 * m), (0.01 * m, 5.0 * m), m_f,
                            True, primary=False),
                   NewParam(f"{dm}.{drole.param('damping')}", c0, (1e-3 * c0, 1e3 * c0), (1e-3 * c0, 1e3 * c0),
@@ -202,6 +207,12 @@ def _progressive(ctx: Context, act: Part, spring: str, srole) -> list[NewParam]:
     f2 = (ctx.size(act) * 5e6) ** 2
     return [NewParam(f"{spring}.{name}", 1e-6 / f2, (1e-8 / f2, 1e3 / f2), (1e-8 / f2, 1e3 / f2), 1e-6 / f2, True,
                      primary=False, shapes=(1.0 / f2,))]
+
+
+def _stiffness(name: str, m: float, probe: float) -> NewParam:
+    """A compliance's stiffness (log scale, primary), started rigid (10⁷ s⁻² × the load)."""
+    lo, hi = K_PER_MASS
+    return NewParam(name, 1e7 * m, (lo * m, hi * m), (lo * m, K_PER_MASS_PLAUSIBLE * m), probe, True, grid=K_GRID)
 
 
 def _probe_stiffness(mass: float) -> float:
