@@ -8,6 +8,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+from ..errors import HydroError
 from ..metrics import all_metrics
 from ..results import RunResult
 from ..runfiles import load_run

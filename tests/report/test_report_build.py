@@ -50,6 +50,9 @@ def test_display_units_and_decimation(tmp_path):
     assert unit == "bar" and values == pytest.approx([1.0, 2.0])
     assert display(run.res, "outputs", "x", np.array([0.063]))[0] == pytest.approx([63.0])
     assert display(run.res, "outputs", "F", np.array([5.0])) == (pytest.approx([5.0]), "N")
+    # a display unit the unit registry does not know: the plot falls back to SI, no crash
+    run.res.display_units["outputs/p"] = "blorp"
+    assert display(run.res, "outputs", "p", np.array([1e5])) == (pytest.approx([1e5]), "Pa")
     t = np.arange(10000.0)
     y = np.sin(t / 300)
     y[4321] = 7.0
