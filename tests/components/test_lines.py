@@ -86,6 +86,11 @@ initial: {{a.p: 80e5, b.p: 20e5}}
     assert w == pytest.approx(math.sqrt((1.0 / c_a + 1.0 / c_b) / I_HOSE), rel=0.005)
     stored = c_a * pa + c_b * pb
     assert np.max(np.abs(stored - stored[0])) < 1e-6 * stored[0]
+    # on an L or T lump the split has no place: said at build time, not silently ignored
+    lump = closed.replace("arrangement: 0", "arrangement: 2").replace("initial: {a.p: 80e5, b.p: 20e5}", "")
+    lump += "  va: {type: volume, ports: {P: a}}\n  vb: {type: volume, ports: {P: b}}\n"
+    warn = build_model(load_netlist_text(lump)).warnings
+    assert any("split" in w for w in warn) == (split != 0.5)
 
 
 def test_t_lump_between_volumes_and_multi_lump_dc():

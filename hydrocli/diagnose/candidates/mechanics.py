@@ -25,7 +25,7 @@ PROBE_HZ = 25.0   # Hz: the mode a compliance candidate's screening probe puts i
 # crane's or a loader's boom and its mounting ring at 1–3 Hz — to 1.6 kHz, plausible up to
 # 360 Hz. (Until session 29 from 10³ s⁻², 5 Hz: a counterbalanced lift's 1.8 Hz mount, 2·10⁵ N/m
 # under 1.5 t, ended at that bound and was rejected.) Seven starts span the plausible range
-# (0.8 decade apart, the four of every other effect would leave a decade between them).
+# (0.7 decade apart; the four of every other effect would leave 1.1 decades between them).
 K_PER_MASS = (10.0, 1e8)
 K_PER_MASS_PLAUSIBLE = 5e6
 K_GRID = 7
