@@ -32,10 +32,12 @@ def branch_rate(q, dp, inertance, r_lam, c_r):
     return (dp - r_lam * q - c_r * q * E.fabs(q)) / inertance
 
 
-def ladder(arrangement: int, n: int):
-    """(capacitance fraction per node [A, internal…, B], inertance fraction per branch)."""
+def ladder(arrangement: int, n: int, split=0.5):
+    """(capacitance fraction per node [A, internal…, B], inertance fraction per branch);
+    ``split``: the π's share of the end capacitance 1/N that sits at A (a number or an
+    expression)."""
     if arrangement == PI:
-        return [0.5 / n] + [1.0 / n] * (n - 1) + [0.5 / n], [1.0 / n] * n
+        return [split / n] + [1.0 / n] * (n - 1) + [(1.0 - split) / n], [1.0 / n] * n
     if arrangement == L_LUMP:
         return [0.0] + [1.0 / n] * n, [1.0 / n] * n
     return [0.0] + [1.0 / n] * n + [0.0], [0.5 / n] + [1.0 / n] * (n - 1) + [0.5 / n]
@@ -123,11 +125,8 @@ class Hose(Component):
         r_lam = laminar_resistance(p.rho, p.nu, p.l, p.d) if int(c.value("laminar")) else 0.0
         c_r = turbulent_coefficient(c)
         self._lumping_check(c, n)
-        caps, inert = ladder(arr, n)
-        ends = [caps[0], caps[-1]]
-        if arr == PI:
-            ends = [2.0 * caps[0] * p.split, 2.0 * caps[-1] * (1.0 - p.split)]
-        elif float(c.value("split")) != 0.5:
+        caps, inert = ladder(arr, n, p.split if arr == PI else 0.5)
+        if arr != PI and float(c.value("split")) != 0.5:
             c.warn("split places a π line's end capacitance; it has no effect on an L or T arrangement")
         nodes = [c.across("A")] + [c.state(f"p{k}") for k in range(1, len(caps) - 1)] + [c.across("B")]
         flows = [c.state(f"q{k}") for k in range(len(inert))]
@@ -135,10 +134,10 @@ class Hose(Component):
             c.der(f"q{k}", branch_rate(q, nodes[k] - nodes[k + 1], frac * i_tot, frac * r_lam, frac * c_r))
         for k in range(1, len(caps) - 1):
             c.der(f"p{k}", (flows[k - 1] - flows[k]) / (caps[k] * c_tot))
-        if caps[0]:
-            c.capacitance("A", ends[0] * c_tot)
-        if caps[-1]:
-            c.capacitance("B", ends[1] * c_tot)
+        if arr == PI:              # end capacitance: π at both ends, L at B only, T at neither
+            c.capacitance("A", caps[0] * c_tot)
+        if arr != T_LUMP:
+            c.capacitance("B", caps[-1] * c_tot)
         c.through("A", c.let("qA", flows[0]))
         c.through("B", -c.let("qB", flows[-1]))
 

@@ -19,6 +19,9 @@ SPLIT = (0.02, 0.98)            # share of the lump's end capacitance at the val
 # m: a thin (1/4 in) and a wide (3/4 in) hose: the length grid is tried with each, since at one
 # length a bore sets volume, inertance and loss in opposite ways
 SHAPES = (0.006, 0.019)
+# the line's shapes of start (workers._shapes pairs the k-th bore with the k-th split): each bore
+# with its volume spread along the hose (the symmetric π) and held at the valve end
+BORE_SPLIT = tuple((d, sp) for sp in (0.5, 0.9) for d in SHAPES)
 
 
 class CircuitFamily(Family):
@@ -52,7 +55,8 @@ class CircuitFamily(Family):
             # a companion, since hoses of one bore differ in wall stiffness (SAE 100R1 to R12)
             params.append(NewParam(f"{line}.l", 0.05, (0.01, 20.0), (0.2, 20.0), 2.0, True))
             params.append(NewParam(f"{line}.beta", 1.0e9, (5e7, 2.5e9), (1e8, 2.5e9), 1.0e9, True, primary=False))
-            params.append(NewParam(f"{line}.d", BORE, BORES, BORES, BORE, True, primary=False, shapes=SHAPES * 2))
+            params.append(NewParam(f"{line}.d", BORE, BORES, BORES, BORE, True, primary=False,
+                                   shapes=tuple(d for d, _ in BORE_SPLIT)))
             # where the lump's oil volume sits (a companion): one lump cannot say whether the
             # line's volume is spread along it (the symmetric π, 0.5) or held at the valve end
             # (a manifold block, a pipe run or most of a long hose there, then a short flexible
@@ -62,7 +66,7 @@ class CircuitFamily(Family):
             # valve, validation ESR 0.52 % (π) against 0.17 % with the split free (fitted 0.91),
             # and a compliant mount at 0.40 % was named. Tried at the π and at 0.9 with each bore
             params.append(NewParam(f"{line}.split", 0.5, SPLIT, SPLIT, 0.5, False, primary=False,
-                                   shapes=(0.5,) * len(SHAPES) + (0.9,) * len(SHAPES)))
+                                   shapes=tuple(sp for _, sp in BORE_SPLIT)))
             plan.append((vp, new, node, line))
 
         def build(net):
