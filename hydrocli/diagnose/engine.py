@@ -205,7 +205,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                                                                       validate=validate, starts=scores[c.key].get("starts"),
                                                                       max_evals=st.candidate_evals, n_eff=n_eff,
                                                                       gradient=grad[c.key], stops=stops_of(c),
-                                                                      each_base=c.effect in COMPLIANCES)
+                                                                      each_base=c.effect in COMPLIANCES,
+                                                                      basins={q.name: q.shapes for q in c.params if q.basins})
                                                                  for c in best], pool,
                                     progress=progress, what=f"round {round_ + 1}: candidate fits done")
         wave_fits = {f["key"]: f for f in wave_fits}

@@ -94,3 +94,29 @@ def test_a_compliance_is_fitted_with_the_effect_present_from_each_base():
     out = _fit_starts(obj, bent, model, starts, drawn, each_base=True)
     assert len(out) == 3 and all(np.allclose(a, b) for a, b in zip(out[:2], plain))
     assert np.allclose(out[2], [1.0, 2.0])                           # the drawing with the cheapest hose
+
+
+def test_each_shape_of_a_basin_companion_is_fitted_from_its_best_start():
+    """A companion whose shapes are basins of their own (a spring's mild or strong hardening,
+    NewParam.basins): besides the cheapest start (here effect off) and the cheapest with the
+    effect present, the cheapest start at EACH of its shapes is fitted — the strong shape's
+    starts all cost more than the rigid one at first, and only a fit from one of them reaches
+    the bushing the data hold."""
+    import numpy as np
+    from types import SimpleNamespace
+    from hydrocli.diagnose.workers import _fit_starts
+
+    names = ["k", "hc"]
+    model = SimpleNamespace(param_index=names.index,
+                            param_vector=lambda over, base: np.array([over.get(n, base[i]) for i, n in enumerate(names)]))
+    # cost rises as the spring softens, the more so the harder it is at first: rigid is cheapest
+    obj = SimpleNamespace(cost=lambda q: float(1.0 / q[0] + q[1]))
+    base = np.array([1e9, 1e-6])
+    starts = [{"k": 1e9, "hc": 1e-6}] + [{"k": k, "hc": hc} for hc in (1e-6, 1.0, 1e4) for k in (1e3, 1e5, 1e7)]
+    plain = _fit_starts(obj, base, model, starts)
+    assert len(plain) == 2 and plain[1][1] == 1e-6                  # rigid, and the cheapest soft linear one
+    out = _fit_starts(obj, base, model, starts, basins={"hc": (1.0, 1e4)})
+    assert len(out) == 4 and all(np.allclose(a, b) for a, b in zip(out[:2], plain))
+    assert np.allclose(out[2], [1e7, 1.0]) and np.allclose(out[3], [1e7, 1e4])   # the best start of each shape
+    # a shape already among the starts chosen is not fitted twice
+    assert len(_fit_starts(obj, base, model, starts, basins={"hc": (1e-6,)})) == 2

@@ -58,6 +58,9 @@ class NewParam:
                                            # (workers._log_grid) is crossed with them (the k-th value of
                                            # every companion together), so an amount is tried with each
                                            # shape (a hose's length with each common bore)
+    basins: bool = False                   # each of its shapes is a basin of its own (a spring's mild or
+                                           # strong hardening): the fit also runs from the best start of
+                                           # each shape (workers._fit_starts), not only from the best start
 
 
 @dataclass
