@@ -246,12 +246,12 @@ def _fit_starts(obj, p: np.ndarray, model, starts: list[dict], drawn: np.ndarray
     basins apart: both are far from the record until the fit has moved.
 
     ``basins``: {parameter: its shapes} of companions whose shapes are basins of their own
-    (:attr:`NewParam.basins`): the best start at each shape value is fitted as well. A bushing
-    nearly free around zero and firm under load sets its deflection at the working force by
-    the cube of the stiffness grid's step, so no start of the grid lies near it in cost, and
-    the best start overall is the rigid one (held-out seed 49's EHA mount: rigid 0.036, the
-    strong-hardening starts 0.048–0.050; fitted from either of them: k, k₃ and the frame mass
-    within 25 % of the truth, cost 0.0188 → ΔBIC −14 900)."""
+    (:attr:`NewParam.basins`): the best start at each shape value is fitted as well. For a
+    bushing nearly free around zero and firm under load, the grid's neighbouring starts deflect
+    under the working force 1.8× more and 2.9× less than it, and the cost rises so steeply
+    with that deflection that the rigid start is the cheapest of all (held-out seed 49's EHA
+    mount: rigid 0.036, the strong-hardening neighbours 0.048 and 0.050); fitted from either
+    neighbour, k, k₃ and the frame mass land within 30 % of the truth (ΔBIC −14 900)."""
     bases = [p] + ([drawn] if drawn is not None and not np.array_equal(drawn, p) else [])
     vecs = []                                # (cost, vector, effect off)
     for b in bases:
