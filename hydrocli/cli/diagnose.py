@@ -41,7 +41,7 @@ def _run(machine, train, validate, out, max_effects, jobs, top, no_pdf, schedule
         if e not in VOCABULARY:
             raise UsageError(f"--only {e}: not an effect of the diagnosis vocabulary" + suggest(e, VOCABULARY))
     from ..diagnose.summary import console_summary, write_augmented, write_json, write_proposals
-    from ..fileio import atomic_path, guard_output_dir
+    from ..fileio import guard_output_dir
     files = ("diagnosis.json", "augmented.yaml") + (() if no_pdf else ("report.pdf",))
     guard_output_dir(out, files, (machine, *train, *validate))   # before the long diagnosis
 

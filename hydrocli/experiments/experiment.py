@@ -15,7 +15,7 @@ import numpy as np
 from ..errors import DataError, Location, Problem
 from ..model.model import Model
 from ..solve.simulate import InputTable
-from .recording import Recording, read_csv
+from .recording import Recording
 from .unit_check import check_recording_columns
 
 

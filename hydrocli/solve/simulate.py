@@ -12,7 +12,6 @@ import numpy as np
 
 from ..errors import Problem, SolverError
 from ..model.model import Model
-from .library import compiled
 
 
 @dataclass
