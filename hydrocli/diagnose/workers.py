@@ -251,7 +251,7 @@ def _fit_starts(obj, p: np.ndarray, model, starts: list[dict], drawn: np.ndarray
     under the working force 1.8× more and 2.9× less than it, and the cost rises so steeply
     with that deflection that the rigid start is the cheapest of all (held-out seed 49's EHA
     mount: rigid 0.036, the strong-hardening neighbours 0.048 and 0.050); fitted from either
-    neighbour, k, k₃ and the frame mass land within 30 % of the truth (ΔBIC −14 900)."""
+    neighbour, k lands within 5 %, k₃ and the frame mass within 40 % of the truth (ΔBIC −14 900)."""
     bases = [p] + ([drawn] if drawn is not None and not np.array_equal(drawn, p) else [])
     vecs = []                                # (cost, vector, effect off)
     for b in bases:
