@@ -247,11 +247,14 @@ def _fit_starts(obj, p: np.ndarray, model, starts: list[dict], drawn: np.ndarray
 
     ``basins``: {parameter: its shapes} of companions whose shapes are basins of their own
     (:attr:`NewParam.basins`): the best start at each shape value is fitted as well. For a
-    bushing nearly free around zero and firm under load, the grid's neighbouring starts deflect
-    under the working force 1.8× more and 2.9× less than it, and the cost rises so steeply
-    with that deflection that the rigid start is the cheapest of all (held-out seed 49's EHA
-    mount: rigid 0.036, the strong-hardening neighbours 0.048 and 0.050); fitted from either
-    neighbour, k lands within 5 %, k₃ and the frame mass within 40 % of the truth (ΔBIC −14 900)."""
+    bushing nearly free around zero and firm under load, the cost rises so steeply with the
+    deflection under load that the rigid start is the cheapest of all (held-out seed 49's EHA
+    mount: rigid 0.036; the strong-hardening starts nearest the bushing, 1.8× and 2.9× off in
+    deflection, 0.048 and 0.050), and the cheapest start with the effect present is a
+    near-rigid one: both fits went rigid. With the best start of each shape fitted as well,
+    the bushing is found (k within 5 %, k₃ and the frame mass within 40 % of the truth, ΔBIC
+    −14 900) — measured, by the mild shape's best start: with the strong shape's alone (a
+    stiff spring, k 2·10⁶ N/m, the cheapest of that shape) the answer stays ``none``."""
     bases = [p] + ([drawn] if drawn is not None and not np.array_equal(drawn, p) else [])
     vecs = []                                # (cost, vector, effect off)
     for b in bases:

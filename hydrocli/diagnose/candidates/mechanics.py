@@ -210,8 +210,10 @@ def _progressive(ctx: Context, act: Part, spring: str, srole) -> list[NewParam]:
     carries the load at 1/15 of the linear spring's deflection, ~45× stiffer than around
     zero), up to 10⁶. Measured on an EHA mount of held-out seed 49 (k 10⁵ N/m, k₃ 10¹¹ N/m³:
     hc·F₅₀² ≈ 3·10⁴; 0.9–1.5 % effect ESR): with hc·F₅₀² bounded at 10³ and started at 1, the
-    fit went rigid and the answer was ``none``; from the strong shape it reaches k within 5 %,
-    k₃ and the frame mass within 40 % of the truth (validation P1 1.05 → 0.30 %, noise 0.20 %)."""
+    fit went rigid and the answer was ``none``; with the wider bound and each shape's best start
+    fitted (``basins``) it reaches k within 5 %, k₃ and the frame mass within 40 % of the truth
+    (validation P1 1.05 → 0.30 %, noise 0.20 %). Which start found it was measured: the mild
+    shape's best one; with the strong shape's alone the answer stays ``none``."""
     name = srole.param("cubic")
     if not name:
         return []
