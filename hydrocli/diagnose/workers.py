@@ -269,16 +269,20 @@ def _fit_starts(obj, p: np.ndarray, model, starts: list[dict], drawn: np.ndarray
         if on:
             out.append(vecs[on[0]][1])
     n = len(starts)
+
+    def add_cheapest(picked):
+        """The cheapest start with the effect present among ``picked`` (start indices), unless
+        already chosen."""
+        on = [i for i in order if i % n != 0 and picked(i)]
+        if on and not any(np.array_equal(vecs[on[0]][1], q) for q in out):
+            out.append(vecs[on[0]][1])
+
     for name, values in (basins or {}).items():
         for v in values:
-            at = [i for i in order if i % n != 0 and starts[i % n].get(name) == v]
-            if at and not any(np.array_equal(vecs[at[0]][1], q) for q in out):
-                out.append(vecs[at[0]][1])
-    if each_base and len(starts) > 1:
+            add_cheapest(lambda i: starts[i % n].get(name) == v)
+    if each_base and n > 1:
         for j in range(len(bases)):
-            on = [i for i in order if i // n == j and i % n != 0]
-            if on and not any(np.array_equal(vecs[on[0]][1], q) for q in out):
-                out.append(vecs[on[0]][1])
+            add_cheapest(lambda i: i // n == j)
     return out
 
 

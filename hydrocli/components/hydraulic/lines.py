@@ -125,6 +125,7 @@ class Hose(Component):
         r_lam = laminar_resistance(p.rho, p.nu, p.l, p.d) if int(c.value("laminar")) else 0.0
         c_r = turbulent_coefficient(c)
         self._lumping_check(c, n)
+        # the split acts on a π only (read on an L or T it would become a model parameter there)
         caps, inert = ladder(arr, n, p.split if arr == PI else 0.5)
         if arr != PI and float(c.value("split")) != 0.5:
             c.warn("split places a π line's end capacitance; it has no effect on an L or T arrangement")
