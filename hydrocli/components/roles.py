@@ -22,7 +22,8 @@ actuator           ports chamber_a, chamber_b, motion, reference; params size (a
                    stop_max, stop_stiffness, stop_damping
 metering_valve     ports supply, tank, work_a, work_b, command; params flow_gain, direction_ratio
                    (1 = symmetric), overlaps (four edges), edge_leak, edge_gains (four edges),
-                   spool_dynamics (time constant, rate limit: nuisance parameters)
+                   spool_dynamics (time constant, rate limit: nuisance parameters),
+                   spool_lag (the spool's time constant alone)
 load               ports node; params inertia (mass or moment of inertia)
 spring             ports a, b; params stiffness
 damper             ports a, b; params damping

@@ -85,6 +85,7 @@ class Baseline:
     n_eff: float                 # effective residual samples of the base fit
     restrained: Stage | None = None   # the base re-fitted with implausible values restrained (:mod:`.restrain`)
     restraints: dict = field(default_factory=dict)
+    slow_spools: dict = field(default_factory=dict)   # spool time constants at their ceiling (:func:`.restrain.slow_spools`)
 
 
 @dataclass

@@ -400,6 +400,32 @@ def test_a_transducer_lag_at_the_ceiling_restrains_every_pressure_sensor():
     assert lim == {n: (PRESSURE_TAU_BOUNDS[0], PRESSURE_TAU_TYPICAL) for n in taus}
 
 
+def test_a_spool_time_constant_at_its_tolerance_ceiling_is_offered_for_restraint():
+    """The valve's spool time constant (its role's ``spool_lag``, a nuisance parameter free
+    within the datasheet's ±30 %) pressed against that ceiling may stand for a lag the file
+    lacks (a delayed command, a sticking spool): :func:`restrain.slow_spools` offers it,
+    restrained to the datasheet's tolerance (tried only when the round from the free base
+    accepted nothing). Inside the window, or at its FLOOR (a faster valve stands for no missing
+    lag), it is not offered, and neither is the rate limit at its bound (nulls often leave it
+    there); :func:`restrain.limits` never restrains it on its own."""
+    from hydrocli.diagnose import restrain
+    net, found = nuisance.with_nuisance(load_netlist(ROOT / "machines" / "eha_testbench.yaml"), set())
+    ctx = Context(net, set(), {}, {}, {})
+    for t in ("valve_4_3", "valve_pc_ls"):
+        assert registry.get(t).role(R.METERING_VALVE).param("spool_lag") == "tau"
+    bounds = {n.name: n.bounds for n in found}
+    initial = {n.name: n.file_value for n in found}
+    tau0, (lo, hi) = initial["valve.tau"], bounds["valve.tau"]
+    smax_lo = bounds["valve.s_max"][0]
+    pressed = {"valve.tau": hi, "valve.s_max": smax_lo}
+    assert restrain.slow_spools(ctx, {"valve.tau": 1.3 * tau0, "valve.s_max": smax_lo}, bounds, initial) == {}
+    assert restrain.slow_spools(ctx, {"valve.tau": lo}, bounds, initial) == {}
+    assert restrain.limits(ctx, pressed, bounds, initial, set(pressed)) == {}
+    lim = restrain.slow_spools(ctx, pressed, bounds, initial)
+    assert lim == {"valve.tau": (lo, pytest.approx(restrain.SPOOL_TOLERANCE * tau0))}
+    assert restrain.start(hi, lim["valve.tau"]) == pytest.approx(1.15 * tau0)
+
+
 def test_actuator_bulk_modulus_below_oil_is_restrained_and_hoses_are_not(tmp_path):
     """The chambers' bulk modulus is found by role and restrained to oil's range only where
     the base fit left it below; a hose volume's low effective modulus is left alone."""

@@ -134,7 +134,7 @@ def stamp_four_edges(c, q_pa, q_bt, q_pb, q_at):
 VALVE_ROLE = role(RL.METERING_VALVE, {"supply": "P", "tank": "T", "work_a": "A", "work_b": "B", "command": "cmd"},
                    flow_gain="Kv", direction_ratio="Kv_neg_ratio",
                    overlaps=("overlap_PA", "overlap_BT", "overlap_PB", "overlap_AT"), edge_leak="G_leak",
-                   spool_dynamics=("tau", "s_max"), spool_hysteresis=("hyst_h", "hyst_sigma"),
+                   spool_dynamics=("tau", "s_max"), spool_lag="tau", spool_hysteresis=("hyst_h", "hyst_sigma"),
                    spool_play=("play_b", "play_eps"))
 
 

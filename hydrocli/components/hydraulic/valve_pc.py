@@ -46,7 +46,7 @@ class ValvePcLs(Component):
     roles = (role(RL.METERING_VALVE, {"supply": "P", "tank": "T", "work_a": "A", "work_b": "B", "command": "cmd"},
                   flow_gain="Kv", direction_ratio="Kv_neg_ratio",
                   overlaps=("overlap_PA", "overlap_BT", "overlap_PB", "overlap_AT"), edge_leak="G_leak",
-                  spool_dynamics=("tau", "s_max"), spool_hysteresis=("hyst_h", "hyst_sigma"),
+                  spool_dynamics=("tau", "s_max"), spool_lag="tau", spool_hysteresis=("hyst_h", "hyst_sigma"),
                   spool_play=("play_b", "play_eps")),)
     family = "hydraulic"
     description = "Pressure-compensated load-sensing DCV (compensator holds p0 across the meter-in edge)"
