@@ -426,6 +426,38 @@ def test_a_spool_time_constant_at_its_tolerance_ceiling_is_offered_for_restraint
     assert restrain.start(hi, lim["valve.tau"]) == pytest.approx(1.15 * tau0)
 
 
+def test_a_round_from_a_base_with_the_spool_restrained_must_beat_the_free_base(monkeypatch):
+    """``engine._spool_round``: the base is re-identified with the slow spool restrained AS
+    WELL AS every other restraint, and the round runs from there with the free base as the
+    floor every candidate must beat; when the restrained base cannot be simulated, nothing is
+    tried and the baseline is unchanged."""
+    from hydrocli.diagnose import engine, restrained
+    net = load_netlist(ROOT / "machines" / "eha_testbench.yaml")
+    model = build_model(net)
+    free = SimpleNamespace(model=model, p=np.array(model.param_vector({"valve.tau": 5.72e-3})))
+    b = engine.Baseline(free, None, [], {}, {}, [], 100.0, None, {"friction.vs_p": (1e-3, 1e-2)},
+                        {"valve.tau": (2.8e-3, 4.6e-3)})
+    held, seen = SimpleNamespace(name="restrained"), {}
+
+    def refit(su, base, lim, st, progress):
+        seen["lim"], seen["from"] = lim, base
+        return held
+
+    def round_from(su, b2, free_, accepted, st, pool, progress):
+        seen["round"] = (b2.restrained, free_)
+        return SimpleNamespace(accepted={"effect": "input_delay"}), accepted + ["x"]
+    monkeypatch.setattr(restrained, "restrained_base", refit)
+    monkeypatch.setattr(engine, "_restrained_round", round_from)
+    said = []
+    rnd, b2, acc = engine._spool_round(None, b, free, [], engine.Settings(), None, said.append)
+    assert seen["lim"] == {"friction.vs_p": (1e-3, 1e-2), "valve.tau": (2.8e-3, 4.6e-3)} and seen["from"] is free
+    assert seen["round"] == (held, free) and b2.restrained is held and b2.restraints == seen["lim"]
+    assert rnd.accepted["effect"] == "input_delay" and acc == ["x"]
+    assert any("valve.tau = 0.00572" in m for m in said)
+    monkeypatch.setattr(restrained, "restrained_base", lambda *a: None)
+    assert engine._spool_round(None, b, free, [], engine.Settings(), None, said.append) == (None, b, [])
+
+
 def test_actuator_bulk_modulus_below_oil_is_restrained_and_hoses_are_not(tmp_path):
     """The chambers' bulk modulus is found by role and restrained to oil's range only where
     the base fit left it below; a hose volume's low effective modulus is left alone."""
