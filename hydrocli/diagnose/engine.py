@@ -123,13 +123,12 @@ def baseline_step(su: Setup, st: Settings, progress=None, run: runaway.Runaway |
                else "needed to simulate the training recordings at all")
         log(progress, f"  the base fit found {f['effect']} on '{f['component']}' ({why})")
     bounds, at_bound = _bounds(model, res0)
-    lim = restrain.limits(context(su, base), dict(zip(res0.names, res0.estimates)), bounds,
-                          dict(zip(res0.names, res0.initial)), at_bound)
+    ctx, est, file_values = context(su, base), dict(zip(res0.names, res0.estimates)), dict(zip(res0.names, res0.initial))
+    lim = restrain.limits(ctx, est, bounds, file_values, at_bound)
     lim.update(restrain.grown_volumes(found, bounds))
     held = restrained.restrained_base(su, base, lim, st, progress) if lim else None
-    spools = restrain.slow_spools(context(su, base), dict(zip(res0.names, res0.estimates)), bounds,
-                                  dict(zip(res0.names, res0.initial)))
-    return Baseline(base, res0, judged, where, white, found, n_eff, held, lim, spools)
+    return Baseline(base, res0, judged, where, white, found, n_eff, held, lim,
+                    restrain.slow_spools(ctx, est, bounds, file_values))
 
 
 def _bounds(model, res) -> tuple[dict[str, tuple[float, float]], set[str]]:

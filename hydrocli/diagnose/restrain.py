@@ -66,7 +66,7 @@ SPOOL_TOLERANCE = 1.15   # × the datasheet's spool time constant: a valve of th
 PRESSED = 0.99           # of a bound: a fit estimate pressed against it
 WHY = ("a bulk modulus below oil's, a transducer lag at the measurement model's ceiling, "
        "a spool time constant at its tolerance's ceiling, chamber volumes grown beyond the drawing's in every chamber, "
-       "or a value pushed to a bound far from the file's")   # what :func:`limits` restrains, in words
+       "or a value pushed to a bound far from the file's")   # what limits and slow_spools restrain, in words
 
 
 def limits(ctx: Context, estimates: dict[str, float], bounds: dict[str, tuple[float, float]],
