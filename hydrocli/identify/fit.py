@@ -112,6 +112,28 @@ RESTARTS = 2          # least squares restarted at most this often after a step-
 RESTART_GAIN = 0.01   # … that followed a cost decrease of at least this fraction
 
 
+def gauss_newton_gain(J: np.ndarray, r: np.ndarray, z: np.ndarray, edge: float = 1e-8) -> float:
+    """The fraction of the cost r·r that one Gauss–Newton step from ``z`` is predicted to remove,
+    ‖J δ‖²/‖r‖² with δ = J⁺r (the projection of r on the columns of J), over the variables
+    free to move: a variable at a bound of the unit box whose descent direction −(Jᵀr)ᵢ
+    points out of it is left out. At a stationary point (Jᵀr = 0) it is 0. A restart after a
+    step-size stop is worth a run only when this says a step is left to take (the trust
+    region collapsed, not the optimum reached): at the optimum of a loosely integrated stick-slip
+    model the restart only re-fits the integration's own noise."""
+    J, r, z = np.asarray(J, float), np.asarray(r, float), np.asarray(z, float)
+    rr = float(r @ r)
+    if not (rr > 0.0 and np.all(np.isfinite(J)) and np.all(np.isfinite(r))):
+        return 0.0
+    g = J.T @ r
+    free = ~(((z <= edge) & (g > 0)) | ((z >= 1.0 - edge) & (g < 0)))
+    if not free.any():
+        return 0.0
+    Jf = J[:, free]
+    delta = np.linalg.lstsq(Jf, r, rcond=1e-10)[0]
+    step = Jf @ delta
+    return float(step @ step) / rr
+
+
 def fit(model: Model, experiments: list[Experiment], free: list[str] | None = None, **kw) -> FitResult:
     """``workers`` > 1 evaluates finite-difference Jacobian columns in that many threads
     (the compiled solver releases the GIL); the result does not depend on it. ``gradient``:
@@ -200,7 +222,8 @@ def _fit(model: Model, experiments: list[Experiment], free: list[str] | None = N
                 # loose tolerance, stick-slip): restarted from the best point with a fresh radius, at
                 # most RESTARTS times (the rescaled run above is not one of them)
                 if (restart >= RESTARTS + (x_scale == "jac") or sol.status != 3 or tracker.best_z is None
-                        or not tracker.best_cost < (1 - RESTART_GAIN) * c_run):
+                        or not tracker.best_cost < (1 - RESTART_GAIN) * c_run
+                        or gauss_newton_gain(sol.jac, sol.fun, sol.x) < RESTART_GAIN):
                     break
                 z_run, c_run = tracker.best_z.copy(), tracker.best_cost
         elif method == "nelder-mead":
