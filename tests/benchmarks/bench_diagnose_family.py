@@ -91,6 +91,17 @@ def gap_closed(before: dict, after: dict, noise: dict) -> bool:
     return bool(ok)
 
 
+def gap_closed_mean(before: dict, after: dict, noise: dict) -> bool:
+    """The same rule on the case's ESR averaged over its outputs (a second, looser reading of the
+    criterion: an output where the effect barely shows no longer decides on the last per cent
+    of its noise estimate). Printed beside the per-output figure, which stays the headline."""
+    outs = [o for o in noise if o in before and o in after]
+    if not outs:
+        return False
+    mb, ma, mn = (statistics.mean(d[o] for o in outs) for d in (before, after, noise))
+    return bool(ma <= mn + GAP_FRACTION * max(mb - mn, 0.0) + 1e-12)
+
+
 def model_before(data: dict) -> dict:
     """Validation ESR of the model WITHOUT the first named effect: the base fit's, or, when the
     base fit itself found the effect (``source: base_fit``: a leak coefficient moved from 0, a
@@ -120,6 +131,7 @@ def run_case(folder: Path, jobs: int, progress) -> dict:
             "base_parameters": [{k: b.get(k) for k in ("name", "value", "initial", "stderr")}
                                 for b in data.get("base_parameters", [])],
             "gap_closed": gap_closed(before, after, t["noise"]) if err is None else False,
+            "gap_closed_mean": gap_closed_mean(before, after, t["noise"]) if err is None else False,
             "seconds": wall, "error": err, "candidates": _candidate_rows(data),
             "noise_validation": (data.get("tests") or {}).get("noise_esr_validation", {}),
             "n_eff_validation": {o: w.get("n_eff") for o, w in
@@ -177,7 +189,8 @@ def aggregate(rows: list[dict]) -> dict:
         "top1_correct": len(right),
         "null_false_positive_rate": (sum(r["named"] != "none" for r in nulls) / len(nulls)) if nulls else None,
         "confusion": conf, "per_effect": per_effect, "per_machine": by_machine, "esr_buckets": buckets,
-        "gap_closed_among_right": {"n": len(right), "closed": sum(r["gap_closed"] for r in right)},
+        "gap_closed_among_right": {"n": len(right), "closed": sum(r["gap_closed"] for r in right),
+                                   "closed_mean": sum(bool(r.get("gap_closed_mean")) for r in right)},
         "errors": sum(r["error"] is not None for r in rows),
         "seconds": {"mean": statistics.mean(secs) if secs else None,
                     "median": statistics.median(secs) if secs else None,
@@ -213,7 +226,8 @@ def print_report(agg: dict):
         print(f"  {b:5s} {_pct(s['top1'], s['n'])}")
     g = agg["gap_closed_among_right"]
     print(f"\nValidation ESR after <= noise + {int(GAP_FRACTION * 100)} % of the before-gap, among cases "
-          f"named right: {_pct(g['closed'], g['n'])}")
+          f"named right: {_pct(g['closed'], g['n'])} on every output; "
+          f"{_pct(g.get('closed_mean', 0), g['n'])} on the ESR averaged over the outputs")
     s = agg["seconds"]
     if s["mean"] is not None:
         print(f"Time per case: mean {s['mean']:.0f} s, median {s['median']:.0f} s, max {s['max']:.0f} s "

@@ -31,6 +31,16 @@ def test_gap_closed_rule():
     assert not bench.gap_closed({"P1": 2.1}, {"P1": 0.6}, noise)
 
 
+def test_the_averaged_gap_rule_lets_an_output_at_the_noise_not_decide():
+    """P2 barely shows the effect (before 3 % above its noise, after 1 % above): every output
+    fails the per-output rule; the ESR averaged over P1 and P2 closes its gap."""
+    noise, before, after = {"P1": 0.1, "P2": 0.1}, {"P1": 2.1, "P2": 0.103}, {"P1": 0.2, "P2": 0.101}
+    assert not bench.gap_closed(before, after, noise)
+    assert bench.gap_closed_mean(before, after, noise)            # 0.1505 <= 0.1 + 0.2 * 1.0015
+    assert not bench.gap_closed_mean(before, {"P1": 0.6, "P2": 0.101}, noise)
+    assert not bench.gap_closed_mean(before, after, {"v": 0.1})   # no common output: not closed
+
+
 def test_the_gap_of_a_base_fit_finding_is_measured_without_it():
     """The base fit already contains what it found (c_el moved from 0, a chamber volume grown):
     its 'before' is the base with those parameters back at the file's values."""
@@ -67,7 +77,7 @@ def test_aggregate_counts():
     a = bench.aggregate(rows)
     assert a["per_effect"]["entrained_air"]["closed"] == 1 and a["per_effect"]["structural_flexibility"]["closed"] == 0
     assert a["per_effect"]["none"]["closed"] is None                 # a null has no gap to close
-    assert a["gap_closed_among_right"] == {"n": 2, "closed": 1}     # effect cases named right only
+    assert a["gap_closed_among_right"] == {"n": 2, "closed": 1, "closed_mean": 0}   # effect cases named right only
 
 
 def test_find_cases_filters_by_split(tmp_path):
