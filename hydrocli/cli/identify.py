@@ -54,7 +54,8 @@ def register(app: typer.Typer) -> None:
         batch: str = typer.Option(None, "--batch", help="glob of experiment files, each fitted separately"),
         jobs: int = typer.Option(2, "--jobs", "-j", help="batch: parallel worker processes"),
         scheduler: str = typer.Option(None, "--scheduler", help="batch: Dask scheduler address tcp://HOST:PORT"),
-        workers: int = typer.Option(2, "--workers", help="threads for finite-difference Jacobian columns"),
+        workers: int = typer.Option(2, "--workers", help="threads for a Jacobian: finite-difference columns, "
+                                    "or the sensitivity columns split between parallel runs"),
         rtol: float = typer.Option(1e-6, "--rtol", help="relative tolerance of the integrator while fitting"),
         profile: list[str] = typer.Option(None, "--profile", help="profile-likelihood interval of this free "
                                                                   "parameter (refits; repeatable, or 'all')"),

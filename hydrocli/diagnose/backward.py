@@ -67,7 +67,7 @@ def without(su: Setup, base_net: Netlist, stage: Stage, keep: list[Candidate], s
         return None
     log(progress, f"  is {what} still needed? re-identifying without it…")
     fit = baseline.identify(model, su.train, p_start=workers.warm_vector(model, stage.model.param_names, stage.p),
-                            iterations=st.base_evals, progress=fit_status(progress, "backward step"))
+                            iterations=st.base_evals, threads=st.jobs, progress=fit_status(progress, "backward step"))
     net = augment.set_values(net, {n: fit.p[model.param_index(n)] for n in model.free_params})
     out = make_stage(net, model, fit.p, fit.cost, list(model.free_params), su.train, su.validate, su.outputs)
     out.stderr = dict(zip(fit.names, baseline.inflated_stderr(

@@ -22,18 +22,20 @@ MAX_FAR = 3.0
 
 
 def identify(model: Model, exps, free=None, p_start=None, iterations: int = 30, progress=None,
-             gradient: str = "auto", opts=None) -> FitResult:
+             gradient: str = "auto", opts=None, threads: int = 1) -> FitResult:
     """Least squares on ESR-scaled residuals of each experiment's ``fit_outputs``, at most
     ``iterations`` optimiser iterations: the simulation budget is sized for the Jacobian at
     hand (one sensitivity run per iteration, or one run per free parameter when the model has
     no analytic sensitivities), so a budget means the same search either way. ``gradient``:
     "auto" (sensitivities when the model has them) or "finite-differences". ``opts``: solver
-    settings (default the diagnosis's ``residuals.OPTS``)."""
+    settings (default the diagnosis's ``residuals.OPTS``). ``threads``: the fits the diagnosis
+    runs alone (base, restrained, polish, backward steps) split each Jacobian between the
+    cores its pool would use; the result does not depend on it."""
     n_free = len(free if free is not None else model.free_params)
     per = 2 if gradient != "finite-differences" and sensitivities_available(model) else n_free + 1
     return fit(model, exps, free, method="least-squares", cost="esr", p_start=p_start,
                max_evals=iterations * per + n_free + 2, opts=opts or OPTS, progress=progress, gradient=gradient,
-               polish=False)
+               polish=False, workers=max(1, int(threads)))
 
 
 def inflated_stderr(res: FitResult, n_eff: float) -> np.ndarray:

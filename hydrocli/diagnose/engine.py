@@ -102,7 +102,7 @@ def baseline_step(su: Setup, st: Settings, progress=None, run: runaway.Runaway |
     model, train, validate, outputs = su.model, su.train, su.validate, su.outputs
     log(progress, f"re-identifying the base model ({len(model.free_params)} free parameters) on "
                   f"{len(train)} training experiment(s)…")
-    res0 = baseline.identify(model, train, iterations=st.base_evals, progress=fit_status(progress, "base fit"))
+    res0 = baseline.identify(model, train, iterations=st.base_evals, threads=st.jobs, progress=fit_status(progress, "base fit"))
     withdrawn = (workers.withdraw_idle_stops(residuals.objective(model, train), model, res0, stops_of(run.candidate))
                  if run is not None else [])
     base = make_stage(augment.set_values(su.net, dict(zip(res0.names, res0.estimates))), model, res0.p, res0.cost,
@@ -406,7 +406,7 @@ def _polish(su: Setup, stage: Stage, c: Candidate, text: str, f: dict, n_eff: fl
     p_c = workers.warm_vector(model_c, f["param_names"], f["p"])
     free_c = list(model_c.free_params)
     log(progress, f"  polishing the model with {c.effect} (all {len(free_c)} free parameters)…")
-    pol = baseline.identify(model_c, su.train, p_start=p_c, iterations=st.base_evals,
+    pol = baseline.identify(model_c, su.train, p_start=p_c, iterations=st.base_evals, threads=st.jobs,
                             progress=fit_status(progress, f"polishing {c.effect}"))
     if pol.cost < f["cost"]:
         Yva = residuals.simulate_outputs(model_c, su.validate, pol.p)

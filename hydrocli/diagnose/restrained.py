@@ -21,7 +21,7 @@ def restrained_base(su: Setup, base: Stage, lim: dict, st: Settings, progress) -
         + f" is implausible ({restrain.WHY}): re-identifying with it restrained, to test which missing effect "
           "it stands for…")
     try:
-        res = baseline.identify(model, su.train, p_start=p0, iterations=st.base_evals,
+        res = baseline.identify(model, su.train, p_start=p0, iterations=st.base_evals, threads=st.jobs,
                                 progress=fit_status(progress, "restrained base fit"))
     except IdentifyError as exc:
         # the machine cannot be simulated with the values restrained (dev lift end stop: β
@@ -62,7 +62,7 @@ def released(su: Setup, stage: Stage, bounds: dict[str, tuple[float, float]], st
     res = None
     for p0 in starts:
         try:
-            r = baseline.identify(model, su.train, p_start=p0, iterations=st.base_evals,
+            r = baseline.identify(model, su.train, p_start=p0, iterations=st.base_evals, threads=st.jobs,
                                   progress=fit_status(progress, "volumes released"))
         except IdentifyError:
             continue

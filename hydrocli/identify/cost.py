@@ -116,10 +116,11 @@ class Objective:
                 out.append(np.where(np.isfinite(r), r, FAIL_RESIDUAL))
         return np.concatenate(out) if out else np.zeros(0)
 
-    def residuals_jacobian(self, p: np.ndarray, wrt: list[str]) -> tuple[np.ndarray, np.ndarray]:
+    def residuals_jacobian(self, p: np.ndarray, wrt: list[str], threads: int = 1) -> tuple[np.ndarray, np.ndarray]:
         """Residuals and ∂r/∂p[wrt] from forward sensitivities: one simulation per experiment
-        (``solve.sensitivities``); an experiment that settles first carries ∂x0/∂p from its
-        settling run. A failed simulation gives the failure residual and zero derivatives."""
+        (``solve.sensitivities``; its columns split between ``threads`` parallel runs); an
+        experiment that settles first carries ∂x0/∂p from its settling run. A failed
+        simulation gives the failure residual and zero derivatives."""
         from ..solve.sensitivities import output_sensitivities
         with self._lock:
             self.n_evals += 1
@@ -133,7 +134,7 @@ class Objective:
                 elif x0 is None:
                     x0, dx0 = self._start_sensitivities(t.exp, p, wrt)
                 tr = output_sensitivities(self.model, t.exp.inputs, t.exp.t_out, p=p, x0=x0, wrt=wrt,
-                                          opts=self.opts, s0=dx0)
+                                          opts=self.opts, s0=dx0, threads=threads)
             except HydroError:
                 with self._lock:
                     self.n_failed += 1

@@ -135,8 +135,9 @@ def gauss_newton_gain(J: np.ndarray, r: np.ndarray, z: np.ndarray, edge: float =
 
 
 def fit(model: Model, experiments: list[Experiment], free: list[str] | None = None, **kw) -> FitResult:
-    """``workers`` > 1 evaluates finite-difference Jacobian columns in that many threads
-    (the compiled solver releases the GIL); the result does not depend on it. ``gradient``:
+    """``workers`` > 1 evaluates finite-difference Jacobian columns, or splits the sensitivity
+    columns, between that many threads (the compiled solver releases the GIL); the result does
+    not depend on it. ``gradient``:
     ``auto`` uses sensitivities when the model has an analytic Jacobian. ``assess`` adds
     bootstrap intervals, the identifiability report and the effect of the fixed parameters
     (:mod:`.uncertainty`; one more sensitivity simulation). The linear algebra runs on one
@@ -188,7 +189,7 @@ def _fit(model: Model, experiments: list[Experiment], free: list[str] | None = N
         if use_sens:
             with lock:
                 tracker.spend()
-            r, Jp = objective.residuals_jacobian(fp.full_vector(base, fp.from_z(z)), fp.names)
+            r, Jp = objective.residuals_jacobian(fp.full_vector(base, fp.from_z(z)), fp.names, threads=workers)
             with lock:
                 tracker.see(z, float(r @ r))
             J = Jp * fp.dp_dz(z)[None, :]
@@ -251,7 +252,7 @@ def _fit(model: Model, experiments: list[Experiment], free: list[str] | None = N
     r_best = last["r"] if "z" in last and np.array_equal(last["z"], z_best) else \
         (None if interrupted else untracked(z_best))
     if J is None and use_sens and not interrupted:
-        r_best, Jp = objective.residuals_jacobian(p_best, fp.names)
+        r_best, Jp = objective.residuals_jacobian(p_best, fp.names, threads=workers)
         J = Jp * fp.dp_dz(z_best)[None, :]
     best_cost, n_polish = tracker.best_cost, 0
     # what the budget leaves for the polish: its first simulation and at least one step

@@ -11,6 +11,7 @@ on disk like the plain one); plain simulations keep using the smaller library.
 """
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -82,15 +83,30 @@ def columns(model: Model, wrt: list[str], dx0_dp: np.ndarray | None = None) -> t
     return col_p, S0
 
 
+#: a thread is given at least this many columns: below it the repeated state integration and
+#: the per-step Jacobians (about four plain runs' worth) cost more than the columns saved
+MIN_COLUMNS_PER_THREAD = 4
+
+
+def column_split(n: int, threads: int) -> list[slice]:
+    """Contiguous column ranges for ``threads`` parallel sensitivity runs of ``n`` columns
+    (fewer runs when a run would get under :data:`MIN_COLUMNS_PER_THREAD` columns)."""
+    k = max(1, min(int(threads), n // MIN_COLUMNS_PER_THREAD))
+    edges = [round(i * n / k) for i in range(k + 1)]
+    return [slice(a, b) for a, b in zip(edges[:-1], edges[1:])]
+
+
 def output_sensitivities(model: Model, inputs: InputTable, t_out: np.ndarray, p: np.ndarray | None = None,
                          x0: np.ndarray | None = None, wrt: list[str] | None = None,
                          opts: SolverOptions | None = None, dx0_dp: np.ndarray | None = None,
-                         states: bool = False, s0: np.ndarray | None = None) -> SensTrajectory:
+                         states: bool = False, s0: np.ndarray | None = None, threads: int = 1) -> SensTrajectory:
     """Simulate and return ``(Y, dY)``-carrying :class:`SensTrajectory`; ``dY[i, o, c]`` =
     ∂y_o(t_i)/∂wrt[c]; with ``states`` also ``dX[i, j, c]`` = ∂x_j(t_i)/∂wrt[c]. ``wrt``
     defaults to the free parameters; ``dx0_dp`` (states × all parameters) is ∂x0/∂p when the
     initial state depends on the parameters, or ``s0`` (states × len(wrt)) the initial
-    sensitivities themselves. Raises SolverError (exit 4)
+    sensitivities themselves. ``threads`` > 1 splits the columns between that many runs in
+    parallel threads (each integrates the states again; the columns are bitwise those of one
+    run: the state steps do not depend on the columns). Raises SolverError (exit 4)
     like :func:`~hydrocli.solve.simulate.simulate`."""
     opts = opts or SolverOptions()
     p = model.p0 if p is None else np.asarray(p, dtype=float)
@@ -101,9 +117,23 @@ def output_sensitivities(model: Model, inputs: InputTable, t_out: np.ndarray, p:
     col_p, S0 = columns(model, wrt, dx0_dp)
     if s0 is not None:
         S0 = S0 + np.asarray(s0, dtype=float)
-    res = lib.simulate_sens(p, inputs.t, inputs.U, _hold_flags(model), float(t_out[0]), x0, t_out, col_p, S0,
-                            rtol=opts.rtol, atol=atol_vector(model, opts), hmax=opts.max_step,
-                            max_steps=opts.max_steps, states=states)
+
+    def run(cols: slice):
+        return lib.simulate_sens(p, inputs.t, inputs.U, _hold_flags(model), float(t_out[0]), x0, t_out, col_p[cols],
+                                 S0[:, cols], rtol=opts.rtol, atol=atol_vector(model, opts), hmax=opts.max_step,
+                                 max_steps=opts.max_steps, states=states)
+
+    parts = column_split(len(wrt), threads)
+    if len(parts) == 1:
+        res = run(parts[0])
+    else:
+        with ThreadPoolExecutor(max_workers=len(parts)) as ex:      # the compiled solver releases the GIL
+            runs = list(ex.map(run, parts))
+        res = next((r for r in runs if r.status != 0), runs[0])
+        if res.status == 0:
+            res.dY = np.concatenate([r.dY for r in runs], axis=2)
+            res.dX = None if not states else np.concatenate([r.dX for r in runs], axis=2)
+            res.stats["sensitivity_evals"] = sum(r.stats["sensitivity_evals"] for r in runs)
     if res.status != 0:
         raise _solver_error(model, res.status, res.stats, res.message)
     return SensTrajectory(t_out, res.X, res.Y, res.dY, wrt, dict(res.stats, backend="compiled"), res.dX)

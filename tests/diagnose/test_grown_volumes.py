@@ -116,7 +116,7 @@ def test_released_volumes_are_kept_only_when_they_fit_better_and_predict_no_wors
     name = next(n for n in model.param_names if n.endswith("V_1"))
     fitted = {}
 
-    def fake_identify(m, train, p_start, iterations, progress):
+    def fake_identify(m, train, p_start, iterations, progress, threads=1):
         fitted["free"] = name in m.free_params
         fitted.setdefault("starts", []).append(float(p_start[m.param_index(name)]))
         return SimpleNamespace(cost=fitted["cost"], names=[name], estimates=[2e-4], p=p_start)

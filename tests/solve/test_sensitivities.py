@@ -138,6 +138,22 @@ def test_columns_computed_together_equal_each_column_alone(eha_case):
         np.testing.assert_allclose(joint.dY[:, :, c], alone.dY[:, :, 0], rtol=1e-12, atol=0.0)
 
 
+def test_columns_split_between_threads_equal_one_run(eha_case):
+    """``threads`` splits the columns between parallel runs: the block, the states' sensitivities
+    and the outputs are those of one run (the state steps do not depend on the columns)."""
+    from hydrocli.solve.sensitivities import MIN_COLUMNS_PER_THREAD, column_split
+    model, inputs, t, x0 = eha_case
+    wrt = ["load.m", "x0:piston.x", "valve.Kv", "cylinder.beta", "friction.kv_p", "valve.tau", "cylinder.V_A0",
+           "friction.ks_p", "cylinder.c_il"]
+    one = output_sensitivities(model, inputs, t, x0=x0, wrt=wrt, states=True)
+    two = output_sensitivities(model, inputs, t, x0=x0, wrt=wrt, states=True, threads=2)
+    assert np.array_equal(one.Y, two.Y) and np.array_equal(one.dY, two.dY) and np.array_equal(one.dX, two.dX)
+    assert two.stats["sensitivity_evals"] == 2 * one.stats["sensitivity_evals"]     # two runs were made
+    assert column_split(9, 2) == [slice(0, 4), slice(4, 9)]
+    assert column_split(2 * MIN_COLUMNS_PER_THREAD - 1, 2) == [slice(0, 2 * MIN_COLUMNS_PER_THREAD - 1)]
+    assert column_split(3, 8) == [slice(0, 3)]
+
+
 def _chain(n: int) -> str:
     """A supply filling n volumes in series through laminar orifices (n states, tridiagonal
     Jacobian: above 24 states the integrator factorises it sparsely)."""
