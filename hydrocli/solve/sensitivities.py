@@ -118,10 +118,11 @@ def output_sensitivities(model: Model, inputs: InputTable, t_out: np.ndarray, p:
     if s0 is not None:
         S0 = S0 + np.asarray(s0, dtype=float)
 
+    hold, atol = _hold_flags(model), atol_vector(model, opts)
+
     def run(cols: slice):
-        return lib.simulate_sens(p, inputs.t, inputs.U, _hold_flags(model), float(t_out[0]), x0, t_out, col_p[cols],
-                                 S0[:, cols], rtol=opts.rtol, atol=atol_vector(model, opts), hmax=opts.max_step,
-                                 max_steps=opts.max_steps, states=states)
+        return lib.simulate_sens(p, inputs.t, inputs.U, hold, float(t_out[0]), x0, t_out, col_p[cols], S0[:, cols],
+                                 rtol=opts.rtol, atol=atol, hmax=opts.max_step, max_steps=opts.max_steps, states=states)
 
     parts = column_split(len(wrt), threads)
     if len(parts) == 1:

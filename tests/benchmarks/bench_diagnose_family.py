@@ -82,13 +82,14 @@ def case_truth(folder: Path) -> dict:
             "size": size, "noise": noise}
 
 
+def _closes(before: float, after: float, noise: float) -> bool:
+    """after <= noise + GAP_FRACTION (before - noise)."""
+    return bool(after <= noise + GAP_FRACTION * max(before - noise, 0.0) + 1e-12)
+
+
 def gap_closed(before: dict, after: dict, noise: dict) -> bool:
-    """after <= noise + GAP_FRACTION (before - noise) on every output that has a noise figure."""
-    ok = True
-    for o, n in noise.items():
-        if o in before and o in after:
-            ok &= after[o] <= n + GAP_FRACTION * max(before[o] - n, 0.0) + 1e-12
-    return bool(ok)
+    """:func:`_closes` on every output that has a noise figure."""
+    return all(_closes(before[o], after[o], n) for o, n in noise.items() if o in before and o in after)
 
 
 def gap_closed_mean(before: dict, after: dict, noise: dict) -> bool:
@@ -98,8 +99,7 @@ def gap_closed_mean(before: dict, after: dict, noise: dict) -> bool:
     outs = [o for o in noise if o in before and o in after]
     if not outs:
         return False
-    mb, ma, mn = (statistics.mean(d[o] for o in outs) for d in (before, after, noise))
-    return bool(ma <= mn + GAP_FRACTION * max(mb - mn, 0.0) + 1e-12)
+    return _closes(*(statistics.mean(d[o] for o in outs) for d in (before, after, noise)))
 
 
 def model_before(data: dict) -> dict:
