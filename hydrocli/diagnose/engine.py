@@ -28,8 +28,8 @@ from ..executor import executor
 from ..identify.fit import sensitivities_available
 from ..model.builder import build_model
 from ..netlist.loader import load_netlist
-from . import (accept, augment, backward, base_findings, baseline, design, findings, locate, nuisance, ranking,
-               residuals, restrain, restrained, runaway, stats, travel, workers)
+from . import (accept, augment, backward, base_findings, baseline, candidate_fits, design, findings, locate, nuisance,
+               ranking, residuals, restrain, restrained, runaway, stats, travel, workers)
 from .candidates import COMPLIANCES, SWITCHING, Candidate, catalogue
 from .equations import equation_errors, measured_states
 from .measurement import sensed_states, with_pressure_sensors
@@ -202,14 +202,14 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         controls = [dict(common, **drawing, key=f"{CONTROL} ({g})", text=augment.text_of(stage.net),
                          validate=validate, max_evals=st.candidate_evals, n_eff=n_eff, gradient=g)
                     for g in sorted({grad[c.key] for c in best} - set(base_ref))]
-        wave_fits = workers.run_all(workers.fit_one, controls + [dict(common, **drawing, key=c.key, text=texts[c.key],
-                                                                      validate=validate, starts=scores[c.key].get("starts"),
-                                                                      max_evals=st.candidate_evals, n_eff=n_eff,
-                                                                      gradient=grad[c.key], stops=stops_of(c),
-                                                                      each_base=c.effect in COMPLIANCES,
-                                                                      basins={q.name: q.shapes for q in c.params if q.basins})
-                                                                 for c in best], pool,
-                                    progress=progress, what=f"round {round_ + 1}: candidate fits done")
+        wave_fits = candidate_fits.fit_all(controls + [dict(common, **drawing, key=c.key, text=texts[c.key],
+                                                            validate=validate, starts=scores[c.key].get("starts"),
+                                                            max_evals=st.candidate_evals, n_eff=n_eff,
+                                                            gradient=grad[c.key], stops=stops_of(c),
+                                                            each_base=c.effect in COMPLIANCES,
+                                                            basins={q.name: q.shapes for q in c.params if q.basins})
+                                                       for c in best], pool,
+                                           progress=progress, what=f"round {round_ + 1}: candidate fits done")
         wave_fits = {f["key"]: f for f in wave_fits}
         for g in {grad[c.key] for c in best} - set(base_ref):
             ctl = wave_fits.pop(f"{CONTROL} ({g})")

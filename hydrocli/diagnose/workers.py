@@ -1,5 +1,6 @@
 """Per-candidate work that runs in worker processes (``--jobs``): build the augmented
-model from its YAML text, screen it (score test) or re-identify it. Payloads are plain
+model from its YAML text, screen it (score test), and the pieces of its re-identification
+(its starts, idle stops; the fits themselves: :mod:`.candidate_fits`). Payloads are plain
 picklable data (text, arrays, experiments); compiled models are cached on disk."""
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import numpy as np
 from ..model.builder import build_model
 from ..netlist.loader import load_netlist_text
 from ..progress import status
-from . import baseline, residuals, stats
+from . import residuals, stats
 
 
 def model_from_text(text: str, file: str):
@@ -131,50 +132,6 @@ def _one_end_probes(params) -> list[dict]:
 def _inner(bounds, margin=0.02):
     lo, hi = bounds
     return lo + margin * (hi - lo), hi - margin * (hi - lo)
-
-
-def fit_one(job: dict) -> dict:
-    """Re-identify base + new parameters, then score train and validation. The new
-    parameters start from the best of: effect off, the probe value, and the Gauss–Newton
-    step of the screening regression (so an effect far from zero is reached in few
-    iterations) — from two of them when "off" costs least (:func:`_fit_starts`); each with
-    the base parameters where the current fit has them and where the machine file
-    (``job["drawing"]``) has them. Gradient "both": each start is fitted on exact
-    sensitivities AND on finite differences, the lower final cost wins (see
-    ``engine.Settings.switching_gradient``)."""
-    try:
-        model = model_from_text(job["text"], job["file"])
-        p = warm_vector(model, job["names"], job["values"])
-        names = set(model.param_names)
-        drawn = model.param_vector({n: v for n, v in (job.get("drawing") or {}).items() if n in names}, base=p)
-        obj = residuals.objective(model, job["train"])
-        res = None
-        g = job.get("gradient", "auto")
-        for q in _fit_starts(obj, p, model, job.get("starts") or [{}], drawn, job.get("each_base", False),
-                             job.get("basins") or {}):
-            for grad in (("auto", "finite-differences") if g == "both" else (g,)):
-                trial = baseline.identify(model, job["train"], p_start=q, iterations=job["max_evals"], gradient=grad)
-                if res is None or trial.cost < res.cost:
-                    res = trial
-        withdrawn = withdraw_idle_stops(obj, model, res, job.get("stops") or [])
-        Ytr = residuals.simulate_outputs(model, job["train"], res.p)
-        Yva = residuals.simulate_outputs(model, job["validate"], res.p)
-        # standard errors inflated by THIS fit's residual autocorrelation: a candidate that
-        # takes up the structured misfit leaves whiter residuals, and more independent samples,
-        # than the model it starts from (ΔBIC keeps the current model's n_eff, so candidates
-        # are ranked alike)
-        n_own = residuals.effective_n(model, job["train"], Ytr, job["outputs"])
-        return {"key": job["key"], "error": None, "names": res.names, "estimates": res.estimates.tolist(),
-                "stderr": baseline.inflated_stderr(res, n_own).tolist(), "cost": res.cost, "n_eff": n_own,
-                "correlation": None if res.correlation is None else np.asarray(res.correlation).tolist(),
-                "p": res.p, "param_names": model.param_names, "seconds": res.seconds,
-                "esr_train": residuals.esr_table(model, job["train"], Ytr, job["outputs"]),
-                "esr_train_each": [residuals.total(residuals.esr_table(model, [e], [Y], job["outputs"]))
-                                   for e, Y in zip(job["train"], Ytr)],
-                "esr_validation": residuals.esr_table(model, job["validate"], Yva, job["outputs"]),
-                "withdrawn": withdrawn}
-    except Exception as exc:
-        return {"key": job["key"], "error": f"{type(exc).__name__}: {exc}"}
 
 
 IDLE_STOP = 0.01       # share of the travel seen a stop must sit beyond it to count as never pressed

@@ -36,7 +36,8 @@ def main(argv=None) -> int:
         c0 = _cpu()
         d = diagnose(ROOT / "machines" / "eha_testbench.yaml", [RECORDINGS / rec / "train.csv"],
                      [RECORDINGS / rec / "validate.csv"], Settings(jobs=args.jobs),
-                     progress=lambda m: print(f"  [{rec}] {m}", file=sys.stderr, flush=True))
+                     progress=lambda m: print(f"  [{rec} {time.perf_counter() - t0:6.1f} s] {m}", file=sys.stderr,
+                                              flush=True))
         wall = time.perf_counter() - t0
         cpu = _cpu() - c0
         out = args.out / rec
