@@ -256,7 +256,12 @@ def run_all(fn, jobs: list[dict], pool=None, progress=None, what: str = "done") 
             status(progress, f"{what} {k}/{n}")
         return out
     if hasattr(pool, "gather"):          # dask.distributed.Client
-        from distributed import as_completed as completed
+        from distributed import as_completed
+
+        def completed(fs):
+            # the executor's client is not the process's default one (set_as_default=False):
+            # without its loop, as_completed looks for a default client and fails
+            return as_completed(fs, loop=pool.loop)
         futures = [pool.submit(fn, j, pure=False) for j in jobs]
     else:
         from concurrent.futures import as_completed as completed

@@ -69,6 +69,7 @@ def test_the_lowest_cost_wins_the_first_among_equals_and_a_failed_fit_fails_the_
 def test_the_estimate_breaks_even_between_the_two_jacobians_near_nine_parameters():
     """docs/identify.md: a sensitivity run costs about six plain runs plus 0.3 per column, so
     per Jacobian the two break even near nine free parameters."""
-    cost = lambda n, g: cf.estimated_seconds({"n_free": n, "sim_s": 0.04}, g, 15)   # noqa: E731
+    def cost(n, g):
+        return cf.estimated_seconds({"n_free": n, "sim_s": 0.04}, g, 15)
     assert all(cost(n, cf.FD) < cost(n, "auto") for n in range(1, 8))
     assert all(cost(n, cf.FD) > cost(n, "auto") for n in range(10, 40))

@@ -59,11 +59,19 @@ def case(tmp_path_factory):
     return d, base
 
 
-def test_diagnose_names_coulomb_friction_and_improves_validation(case):
+SMALL = dict(max_effects=2, top=2, base_evals=15, candidate_evals=12,
+             only=("coulomb_friction", "internal_leakage", "entrained_air", "valve_overlap"))
+
+
+@pytest.fixture(scope="module")
+def in_process(case):
     d, base = case
-    diag = diagnose(base, [d / "train.csv"], [d / "validate.csv"],
-                    Settings(max_effects=2, jobs=1, top=2, base_evals=15, candidate_evals=12,
-                             only=("coulomb_friction", "internal_leakage", "entrained_air", "valve_overlap")))
+    return diagnose(base, [d / "train.csv"], [d / "validate.csv"], Settings(jobs=1, **SMALL))
+
+
+def test_diagnose_names_coulomb_friction_and_improves_validation(case, in_process):
+    d, base = case
+    diag = in_process
     data = diag.data
     assert data["verdict"] == "missing_physics"
     acc = data["accepted"][0]
@@ -87,6 +95,39 @@ def test_diagnose_names_coulomb_friction_and_improves_validation(case):
     from hydrocli.report.diagnosis import write_report
     write_report(diag, d / "report.pdf")
     assert (d / "report.pdf").read_bytes()[:4] == b"%PDF"
+
+
+@pytest.mark.slow
+def test_a_dask_cluster_of_worker_processes_gives_the_same_diagnosis(case, in_process):
+    """Candidate fits split per start (diagnose/candidate_fits.py) on a Dask scheduler with two
+    worker processes on loopback: the record is the in-process one, number for number (to the
+    last digits of the linear algebra)."""
+    distributed = pytest.importorskip("distributed")
+    d, base = case
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                  dashboard_address=None) as cluster:
+        diag = diagnose(base, [d / "train.csv"], [d / "validate.csv"],
+                        Settings(jobs=2, scheduler=cluster.scheduler_address, **SMALL))
+    assert diag.data["accepted"][0]["effect"] == "coulomb_friction"
+    # the workers' BLAS runs on one thread (Dask's default), so a screening score may differ
+    # in its last digit from the in-process one; every fit, verdict and text is the same
+    _same(diag.data, in_process.data)
+
+
+def _same(a, b, path="") -> None:
+    if isinstance(a, dict):
+        assert set(a) == set(b), path
+        for k in a:
+            if k != "runtime_s":
+                _same(a[k], b[k], f"{path}/{k}")
+    elif isinstance(a, (list, tuple)):
+        assert len(a) == len(b), path
+        for i, (u, v) in enumerate(zip(a, b)):
+            _same(u, v, f"{path}[{i}]")
+    elif isinstance(a, float) and np.isfinite(a):
+        assert a == pytest.approx(b, rel=1e-9, abs=1e-300), path
+    else:
+        assert str(a) == str(b), path
 
 
 def test_cli_usage_errors_exit_2():
