@@ -44,7 +44,13 @@ def _model_and_start(job: dict):
 def plan(job: dict) -> dict:
     """Phase 1: the start vectors of a candidate's fit, the gradients each is fitted with
     ("both": sensitivities and finite differences, see ``engine.Settings.switching_gradient``)
-    and the seconds one simulation of the candidate takes (for ordering the fits)."""
+    and the seconds one simulation of the candidate takes (for ordering the fits).
+
+    The new parameters start from the best of: effect off, the probe value, and the
+    Gauss–Newton step of the screening regression (so an effect far from zero is reached in
+    few iterations) — from two of them when "off" costs least — each with the base parameters
+    where the current fit has them and where the machine file (``job["drawing"]``) has them
+    (:func:`workers._fit_starts`)."""
     try:
         model, p, drawn = _model_and_start(job)
         obj = residuals.objective(model, job["train"])
