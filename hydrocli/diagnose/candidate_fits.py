@@ -132,20 +132,21 @@ def estimated_seconds(pl: dict, gradient: str, iterations: int) -> float:
     return pl["sim_s"] * per * iterations
 
 
-def fit_all(jobs: list[dict], pool=None, progress=None, what: str = "candidate fits done") -> list[dict]:
+def fit_all(jobs: list[dict], pool=None, progress=None, what: str = "candidate") -> list[dict]:
     """Every candidate of ``jobs`` re-identified (the three phases above); results in the jobs'
-    order, each as :func:`finish` returns it."""
-    plans = run_all(plan, jobs, pool, progress=progress, what=f"{what} (starts)")
+    order, each as :func:`finish` returns it. ``progress`` is told "{what} starts k/n",
+    "{what} fits done k/n" (one per start and Jacobian), "{what} fits scored k/n"."""
+    plans = run_all(plan, jobs, pool, progress=progress, what=f"{what} starts")
     tasks = [{"job": job, "start": q, "gradient": g, "at": (i, k, j)}
              for i, (job, pl) in enumerate(zip(jobs, plans)) if pl["error"] is None
              for k, q in enumerate(pl["starts"]) for j, g in enumerate(pl["grads"])]
     order = sorted(range(len(tasks)), key=lambda t: -estimated_seconds(plans[tasks[t]["at"][0]], tasks[t]["gradient"],
                                                                        tasks[t]["job"]["max_evals"]))
-    done = run_all(fit_start, [tasks[t] for t in order], pool, progress=progress, what=what)
+    done = run_all(fit_start, [tasks[t] for t in order], pool, progress=progress, what=f"{what} fits done")
     fits: dict[int, list] = {}
     for t, f in sorted(zip(order, done), key=lambda tf: tasks[tf[0]]["at"]):
         fits.setdefault(tasks[t]["at"][0], []).append(f)
     ends = run_all(finish, [dict(job, fits=fits[i]) for i, job in enumerate(jobs) if plans[i]["error"] is None],
-                   pool, progress=progress, what=f"{what} (scored)")
+                   pool, progress=progress, what=f"{what} fits scored")
     ends = iter(ends)
     return [next(ends) if pl["error"] is None else pl for pl in plans]

@@ -209,7 +209,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                                                             each_base=c.effect in COMPLIANCES,
                                                             basins={q.name: q.shapes for q in c.params if q.basins})
                                                        for c in best], pool,
-                                           progress=progress, what=f"round {round_ + 1}: candidate fits done")
+                                           progress=progress, what=f"round {round_ + 1}: candidate")
         wave_fits = {f["key"]: f for f in wave_fits}
         for g in {grad[c.key] for c in best} - set(base_ref):
             ctl = wave_fits.pop(f"{CONTROL} ({g})")

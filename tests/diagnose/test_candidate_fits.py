@@ -44,7 +44,12 @@ def test_fits_are_submitted_longest_first_and_come_back_per_candidate_in_start_o
     _fake_phases(monkeypatch)
     jobs = [{"key": k, "max_evals": 15} for k in ("quick", "broken", "slow")]
     pool = RecordingPool()
-    out = cf.fit_all(jobs, pool)
+    told = SimpleNamespace(seen=[])
+    told.status = told.seen.append
+    out = cf.fit_all(jobs, pool, progress=told, what="round 1: candidate")
+    # the status counts each phase in its own unit: candidates, fits (start × Jacobian), candidates
+    assert {"round 1: candidate starts 3/3", "round 1: candidate fits done 5/5",
+            "round 1: candidate fits scored 2/2"} <= set(told.seen)
     fits = [job for name, job in pool.seen if name == "fit_start"]
     est = [cf.estimated_seconds({"n_free": 20 if t["job"]["key"] == "slow" else 5,
                                  "sim_s": 0.5 if t["job"]["key"] == "slow" else 0.01}, t["gradient"], 15) for t in fits]
