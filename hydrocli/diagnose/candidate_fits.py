@@ -33,14 +33,6 @@ from .workers import _fit_starts, model_from_text, run_all, warm_vector, withdra
 FD = "finite-differences"
 
 
-def _model_and_start(job: dict):
-    model = model_from_text(job["text"], job["file"])
-    p = warm_vector(model, job["names"], job["values"])
-    names = set(model.param_names)
-    drawn = model.param_vector({n: v for n, v in (job.get("drawing") or {}).items() if n in names}, base=p)
-    return model, p, drawn
-
-
 def plan(job: dict) -> dict:
     """Phase 1: the start vectors of a candidate's fit, the gradients each is fitted with
     ("both": sensitivities and finite differences, see ``engine.Settings.switching_gradient``)
@@ -52,7 +44,10 @@ def plan(job: dict) -> dict:
     where the current fit has them and where the machine file (``job["drawing"]``) has them
     (:func:`workers._fit_starts`)."""
     try:
-        model, p, drawn = _model_and_start(job)
+        model = model_from_text(job["text"], job["file"])
+        p = warm_vector(model, job["names"], job["values"])
+        names = set(model.param_names)
+        drawn = model.param_vector({n: v for n, v in (job.get("drawing") or {}).items() if n in names}, base=p)
         obj = residuals.objective(model, job["train"])
         t0 = time.perf_counter()
         starts = _fit_starts(obj, p, model, job.get("starts") or [{}], drawn, job.get("each_base", False),
@@ -137,15 +132,15 @@ def fit_all(jobs: list[dict], pool=None, progress=None, what: str = "candidate")
     order, each as :func:`finish` returns it. ``progress`` is told "{what} starts k/n",
     "{what} fits done k/n" (one per start and Jacobian), "{what} fits scored k/n"."""
     plans = run_all(plan, jobs, pool, progress=progress, what=f"{what} starts")
-    tasks = [{"job": job, "start": q, "gradient": g, "at": (i, k, j)}
-             for i, (job, pl) in enumerate(zip(jobs, plans)) if pl["error"] is None
-             for k, q in enumerate(pl["starts"]) for j, g in enumerate(pl["grads"])]
-    order = sorted(range(len(tasks)), key=lambda t: -estimated_seconds(plans[tasks[t]["at"][0]], tasks[t]["gradient"],
-                                                                       tasks[t]["job"]["max_evals"]))
-    done = run_all(fit_start, [tasks[t] for t in order], pool, progress=progress, what=f"{what} fits done")
+    # listed candidate by candidate, each in start order (then Jacobian): the order finish() reads
+    tasks = [{"cand": i, "job": job, "start": q, "gradient": g} for i, (job, pl) in enumerate(zip(jobs, plans))
+             if pl["error"] is None for q in pl["starts"] for g in pl["grads"]]
+    order = sorted(range(len(tasks)), key=lambda k: -estimated_seconds(plans[tasks[k]["cand"]], tasks[k]["gradient"],
+                                                                       tasks[k]["job"]["max_evals"]))
+    done = run_all(fit_start, [tasks[k] for k in order], pool, progress=progress, what=f"{what} fits done")
     fits: dict[int, list] = {}
-    for t, f in sorted(zip(order, done), key=lambda tf: tasks[tf[0]]["at"]):
-        fits.setdefault(tasks[t]["at"][0], []).append(f)
+    for k, f in sorted(zip(order, done), key=lambda kf: kf[0]):       # back in the listed order
+        fits.setdefault(tasks[k]["cand"], []).append(f)
     ends = run_all(finish, [dict(job, fits=fits[i]) for i, job in enumerate(jobs) if plans[i]["error"] is None],
                    pool, progress=progress, what=f"{what} fits scored")
     ends = iter(ends)
