@@ -43,8 +43,9 @@ _INTEGRATOR = _CSRC / "hy_integrator.c"
 #: FMA contraction.  -O3 and -fno-math-errno (sqrt inlined; nothing here reads errno)
 #: change no result bit and take ~12 % off the EHA's 20 s under Rodas4P (issue 16).
 CFLAGS = ("-O3", "-fno-math-errno", "-fPIC", "-shared", "-ffp-contract=off")
-#: the library with sensitivities (the same flags)
-SENS_CFLAGS = CFLAGS
+#: the library with sensitivities (the same flags; -pthread for the pipelined column thread,
+#: csrc/hy_sens_pipe.h)
+SENS_CFLAGS = CFLAGS + ("-pthread",)
 LDLIBS = ("-lm",)
 
 STATS_NAMES = (
@@ -265,7 +266,7 @@ class CompiledModel:
         self._fn = fn
         self._fn_sens = getattr(lib, "hy_simulate_sens", None)
         if self._fn_sens is not None:
-            self._fn_sens.argtypes = _ARGTYPES + [ctypes.c_int, _dp, _dp, _dp, _dp]
+            self._fn_sens.argtypes = _ARGTYPES + [ctypes.c_int, _dp, _dp, _dp, _dp, ctypes.c_int]
             self._fn_sens.restype = ctypes.c_int
 
     @property
@@ -310,11 +311,14 @@ class CompiledModel:
 
     def simulate_sens(self, p, t_in, U, u_hold, t0, x0, t_out, col_p, S0, rtol: float = 1e-6, atol=1e-8,
                       h0: float = 0.0, hmax: float = np.inf, max_steps: int = 10_000_000,
-                      states: bool = False) -> SensResult:
+                      states: bool = False, pipelined: bool = False) -> SensResult:
         """:meth:`simulate` plus output sensitivities (forward, direct-decoupled; see
         ``csrc/hy_sens.h``). ``col_p[c]``: parameter index of column c, or -1 for an
         initial-state column; ``S0`` (nx × ns): ∂x0/∂θ (a unit column for a free initial
-        state, zeros or dx0/dp for a parameter). ``states``: also return ``dX[i, j, c]``."""
+        state, zeros or dx0/dp for a parameter). ``states``: also return ``dX[i, j, c]``.
+        ``pipelined``: the columns in a second thread while this one integrates the states
+        (``csrc/hy_sens_pipe.h``; the same numbers; ``stats["pipelined"]`` says whether it
+        ran so: a model with a sparse LU runs in sequence)."""
         if self._fn_sens is None:
             raise ValueError(f"compiled model {self.so_path.name} was built without sensitivities")
         col = np.ascontiguousarray(col_p, dtype=np.intc).reshape(-1)
@@ -333,10 +337,11 @@ class CompiledModel:
         dyp = dY if self.ny else np.zeros(1)
         dX = np.full((t_out.shape[0], self.nx, ns), np.nan) if states else None
         status = self._fn_sens(*args, ns, col.ctypes.data, S0c.ctypes.data, dyp.ctypes.data,
-                               None if dX is None else dX.ctypes.data)
+                               None if dX is None else dX.ctypes.data, int(bool(pipelined)))
         res = _result(SensResult, status, t_out, X, Y, stats)
         res.dY, res.dX = dY, dX
         res.stats["sensitivity_evals"] = int(stats[8])
+        res.stats["pipelined"] = bool(stats[9])
         return res
 
     def _arguments(self, p, t_in, U, u_hold, t0, x0, t_out, rtol, atol, h0, hmax, max_steps):

@@ -138,20 +138,46 @@ def test_columns_computed_together_equal_each_column_alone(eha_case):
         np.testing.assert_allclose(joint.dY[:, :, c], alone.dY[:, :, 0], rtol=1e-12, atol=0.0)
 
 
-def test_columns_split_between_threads_equal_one_run(eha_case):
-    """``threads`` splits the columns between parallel runs: the block, the states' sensitivities
-    and the outputs are those of one run (the state steps do not depend on the columns)."""
+def test_pipelined_and_split_runs_equal_one_sequential_run(eha_case):
+    """``threads=2`` pipelines one run (the columns in a second thread a few steps behind the
+    states, csrc/hy_sens_pipe.h), ``threads=4`` splits the columns between two pipelined
+    runs: the block, the states' sensitivities and the outputs are bitwise those of one
+    sequential run (the same arithmetic; the state steps do not depend on the columns)."""
     from hydrocli.solve.sensitivities import MIN_COLUMNS_PER_THREAD, column_split
     model, inputs, t, x0 = eha_case
     wrt = ["load.m", "x0:piston.x", "valve.Kv", "cylinder.beta", "friction.kv_p", "valve.tau", "cylinder.V_A0",
            "friction.ks_p", "cylinder.c_il"]
     one = output_sensitivities(model, inputs, t, x0=x0, wrt=wrt, states=True)
-    two = output_sensitivities(model, inputs, t, x0=x0, wrt=wrt, states=True, threads=2)
-    assert np.array_equal(one.Y, two.Y) and np.array_equal(one.dY, two.dY) and np.array_equal(one.dX, two.dX)
-    assert two.stats["sensitivity_evals"] == 2 * one.stats["sensitivity_evals"]     # two runs were made
+    assert not one.stats["pipelined"]
+    for threads, runs in ((2, 1), (4, 2)):
+        other = output_sensitivities(model, inputs, t, x0=x0, wrt=wrt, states=True, threads=threads)
+        assert other.stats["pipelined"], threads
+        assert np.array_equal(one.Y, other.Y) and np.array_equal(one.dY, other.dY) and np.array_equal(one.dX, other.dX)
+        assert other.stats["sensitivity_evals"] == runs * one.stats["sensitivity_evals"], threads
+    # the ring of step records (64) wraps around several times over this run
+    assert one.stats["steps_accepted"] > 3 * 64
     assert column_split(9, 2) == [slice(0, 4), slice(4, 9)]
     assert column_split(2 * MIN_COLUMNS_PER_THREAD - 1, 2) == [slice(0, 2 * MIN_COLUMNS_PER_THREAD - 1)]
     assert column_split(3, 8) == [slice(0, 3)]
+
+
+def test_a_pipelined_run_that_fails_stops_its_column_thread(eha_case):
+    """An integration that fails half-way (here: too few steps allowed) ends the pipelined
+    run with the sequential run's error, the column thread stopped and joined (no hang, no
+    stray thread)."""
+    import threading
+
+    from hydrocli.errors import SolverError
+    model, inputs, t, x0 = eha_case
+    opts = SolverOptions(max_steps=300)
+    before = threading.active_count()
+    messages = []
+    for threads in (1, 2):
+        with pytest.raises(SolverError) as err:
+            output_sensitivities(model, inputs, t, x0=x0, wrt=["load.m", "valve.Kv"], opts=opts, threads=threads)
+        messages.append(str(err.value))
+    assert messages[0] == messages[1] and "steps" in messages[0]
+    assert threading.active_count() == before
 
 
 def _chain(n: int) -> str:
@@ -176,6 +202,9 @@ def test_sparse_factorisation_sensitivities_match_central_differences(tmp_path):
     wrt = ["o1.Kv", "v15.V", "o30.Kv", "x0:n10.p"]
     opts = SolverOptions(rtol=1e-10)
     st = output_sensitivities(m, inputs, t, wrt=wrt, opts=opts)
+    # a pipeline needs the dense LU of each step: a sparse model runs in sequence, the same
+    piped = output_sensitivities(m, inputs, t, wrt=wrt, opts=opts, threads=2)
+    assert not piped.stats["pipelined"] and np.array_equal(piped.dY, st.dY)
     p, x0 = m.p0, m.x0
     for c, name in enumerate(wrt):
         up_p, dn_p, up_x, dn_x = p.copy(), p.copy(), x0.copy(), x0.copy()

@@ -338,6 +338,7 @@ static int hy_setup_breaks(hy_ws *w)
 struct hy_sens;              /* forward sensitivities (hy_sens.h, only with HY_HAS_SENS) */
 #ifdef HY_HAS_SENS
 #include "hy_sens.h"
+#include "hy_sens_pipe.h"
 #endif
 
 /* --------------------------------------------------------------- Jacobian */
@@ -590,7 +591,7 @@ static int hy_integrate(
         ++iout;
     }
 #ifdef HY_HAS_SENS
-    if (sn && (st = hy_sens_begin(sn, &W, t_out, iout, x))) { ret = 100 + st; goto finish; }
+    if (sn && (st = hy_sens_begin(sn, &W, t_out, iout, n_out, x))) { ret = 100 + st; goto finish; }
 #else
     (void)sn;
 #endif
@@ -809,6 +810,9 @@ static int hy_integrate(
     }
 
 finish:
+#ifdef HY_HAS_SENS
+    if (sn) ret = hy_sens_end(sn, ret);      /* joins the column thread of a pipelined run */
+#endif
     if (ret != 0) {
         const double nanv = NAN;
         int j;

@@ -24,6 +24,17 @@
  * the error control: they inherit the state's steps (the usual staggered choice).
  * Dense output of S uses the integrator's interpolation coefficients; output
  * sensitivities dy/dtheta = dg/dx S + dg/dp are evaluated at every output time.
+ *
+ * A sensitivity step is split in two (hy_sens_points, hy_sens_columns):
+ *   points  -- df/dx and df/dp at the HY_SP points the step needs: (t, x), (t + dt, x) for
+ *              g_t, the R_S - 1 stage points y_i and the R_S points x + eps_i k_i of M k_i.
+ *              They depend on the states only: about four plain runs' worth per run
+ *              (EHA), the same whatever the number of columns;
+ *   columns -- everything that touches S: J S + df/dp at those points, the stages and their
+ *              block solves with the step's LU, dense output, dy/dtheta.
+ * hy_sens_pipe.h runs the two in sequence, or pipelined in two threads (the integrator and
+ * the points in the caller's thread, the columns in a second thread a few steps behind).
+ * The arithmetic is the same either way: the results are bitwise identical.
  */
 #ifndef HY_SENS_H
 #define HY_SENS_H
@@ -37,51 +48,163 @@ struct hy_sens {
     double *S, *Sn, *Sy;     /* HY_NX*ns, state-major (S[j*ns + c]): current, new, stage value */
     double *KS, *DS;         /* R_S and R_NH blocks of HY_NX*ns: stages, dense coefficients */
     double *g0, *g1, *gt;    /* HY_NX*ns work */
-    double *jv, *fpv, *gxv, *gpv, *xe, *ye;
+    double *gxv, *gpv, *xe, *ye;
     double *Vb, *col;        /* the block solve's work: HY_NX*ns, HY_NX */
     double *dY;              /* n_out * HY_NY * ns */
     double *dX;              /* n_out * HY_NX * ns, or NULL */
     const double *X_out;
     int iout;                /* outputs whose sensitivities are written */
-    long ngev;               /* evaluations of g */
+    long ngev;               /* evaluations of df/dx, df/dp (the points) */
+    int pipelined;           /* asked for the two-thread pipeline (hy_sens_pipe.h) */
+    struct hy_sstep *ring;   /* nring step records: one when sequential, HY_RING when pipelined */
+    int nring;
+    struct hy_pipe *pipe;    /* the running pipeline, or NULL */
+    int was_pipelined;       /* the column thread ran */
 };
 
-/* out = J(t, x) S + df/dp(t, x) (parameter columns only).  Blocks are state-major
-   (S[j * ns + c]: state j, column c), so every update below runs along the columns of one
-   state row -- contiguous, vectorised -- instead of gathering one column at a time. */
-static int hy_sens_g(struct hy_sens *sn, hy_ws *w, double t, const double *x, const double *S, int kcap,
-                     double *out)
+/* points of one step (HY_SP of them): index of (t, x), (t + dt, x), stage i (1 .. R_S-1),
+   and x + eps_i k_i (i = 0 .. R_S-1) */
+#define HY_SP (2 * R_S + 1)
+#define SP_X 0
+#define SP_T 1
+#define SP_STAGE(i) (1 + (i))
+#define SP_M(i) (R_S + 1 + (i))
+
+/* one accepted state step, with everything its sensitivity columns need (hy_sens_points) */
+struct hy_sstep {
+    double t, tnext, h, dt;
+    double eps[R_S];         /* > 0: the M k_i term of stage i is eps_i-scaled; 0: none */
+    int use_dense;
+    double *x, *xn, *K;      /* HY_NX, HY_NX, R_S*HY_NX: the step's start, end and stages */
+    double *dA, *ddinv;      /* its dense LU of W (when use_dense) */
+    int *dpiv;
+    double *jv, *fpv;        /* HY_SP blocks of HY_NNZ and HY_FP_NNZ values */
+};
+
+#define HY_SS_DBL ((size_t)(2 + R_S) * HY_NX + (size_t)HY_NX * HY_NX + HY_NX \
+                   + (size_t)HY_SP * HY_NNZ + (size_t)HY_SP * HY_FP_NNZ + 2)
+
+/* storage of count step records in two blocks (*dbl, *ibl; free both) */
+static int hy_sstep_alloc(struct hy_sstep *sp, int count, double **dbl, int **ibl)
+{
+    int c;
+    *dbl = (double *)malloc(sizeof(double) * HY_SS_DBL * (size_t)count);
+    *ibl = (int *)malloc(sizeof(int) * (size_t)HY_NX * (size_t)count);
+    if (!*dbl || !*ibl) return -1;
+    for (c = 0; c < count; ++c) {
+        struct hy_sstep *s = sp + c;
+        s->x = *dbl + (size_t)c * HY_SS_DBL; s->xn = s->x + HY_NX; s->K = s->xn + HY_NX;
+        s->dA = s->K + (size_t)R_S * HY_NX; s->ddinv = s->dA + (size_t)HY_NX * HY_NX;
+        s->jv = s->ddinv + HY_NX; s->fpv = s->jv + (size_t)HY_SP * HY_NNZ + 1;
+        s->dpiv = *ibl + (size_t)c * HY_NX;
+    }
+    return 0;
+}
+
+/* df/dx and df/dp at (t, x) into point k of the step record */
+static int hy_sens_jfp(struct hy_sens *sn, hy_ws *w, double t, const double *x, int kcap, struct hy_sstep *sp, int k)
+{
+    hy_eval_u(w, t, kcap, w->u);
+    sn->ngev++;
+    return hy_jfp(t, x, w->p, w->u, sp->jv + (size_t)k * HY_NNZ, sp->fpv + (size_t)k * HY_FP_NNZ);
+}
+
+/* The state-only part of the sensitivity step that follows an accepted state step
+   (t, x) -> (tnext, xn) with stages K and factorised W: the step, its LU and df/dx, df/dp at
+   its HY_SP points, into sp. */
+static int hy_sens_points(struct hy_sens *sn, hy_ws *w, double t, double tnext, double h, const double *x,
+                          const double *xn, const double *K, int kcap, struct hy_sstep *sp)
+{
+    const int n = HY_NX;
+    const double sq = 1.4901161193847656e-08;
+    double *y = sn->ye;
+    volatile double tt;
+    int is, i, j, st;
+
+    sp->t = t; sp->tnext = tnext; sp->h = h;
+    memcpy(sp->x, x, sizeof(double) * (size_t)n);
+    memcpy(sp->xn, xn, sizeof(double) * (size_t)n);
+    memcpy(sp->K, K, sizeof(double) * (size_t)R_S * n);
+    sp->use_dense = w->use_dense;
+    if (w->use_dense) {
+        memcpy(sp->dA, w->dA, sizeof(double) * (size_t)n * n);
+        memcpy(sp->ddinv, w->ddinv, sizeof(double) * (size_t)n);
+        memcpy(sp->dpiv, w->dpiv, sizeof(int) * (size_t)n);
+    }
+    if ((st = hy_sens_jfp(sn, w, t, x, kcap, sp, SP_X))) return st;
+    tt = t + sq * (fabs(t) > 1.0 ? fabs(t) : 1.0);
+    sp->dt = tt - t;
+    if ((st = hy_sens_jfp(sn, w, t + sp->dt, x, kcap, sp, SP_T))) return st;
+    memcpy(y, x, sizeof(double) * (size_t)n);
+    for (is = 0; is < R_S; ++is) {
+        const double *ki = K + (size_t)is * n;
+        double kmax = 0.0;
+        if (is > 0) {
+            if (is < R_NA) {
+                for (i = 0; i < n; ++i) y[i] = x[i] + R_A[is][0] * K[i];
+                for (j = 1; j < is; ++j) {
+                    const double a = R_A[is][j];
+                    const double *kj = K + (size_t)j * n;
+                    if (a == 0.0) continue;
+                    for (i = 0; i < n; ++i) y[i] += a * kj[i];
+                }
+            } else {
+                const double *kp = ki - n;
+                for (i = 0; i < n; ++i) y[i] += kp[i];
+            }
+            if ((st = hy_sens_jfp(sn, w, t + R_CT[is] * h, y, kcap, sp, SP_STAGE(is)))) return st;
+        }
+        /* M k_i: a directional difference of g in x along the state stage k_i */
+        sp->eps[is] = 0.0;
+        for (i = 0; i < n; ++i) {
+            const double r = fabs(ki[i]) / (fabs(x[i]) + w->atol[i] / w->rtol);
+            if (r > kmax) kmax = r;
+        }
+#ifndef HY_SENS_NOHESS
+        if (kmax > 0.0 && isfinite(kmax)) {
+            const double eps = sq / kmax;
+            for (i = 0; i < n; ++i) sn->xe[i] = x[i] + eps * ki[i];
+            if ((st = hy_sens_jfp(sn, w, t, sn->xe, kcap, sp, SP_M(is)))) return st;
+            sp->eps[is] = eps;
+        }
+#endif
+    }
+    return 0;
+}
+
+/* out = J S + df/dp (parameter columns only) with J, df/dp of point k.  Blocks are
+   state-major (S[j * ns + c]: state j, column c), so every update below runs along the
+   columns of one state row -- contiguous, vectorised -- instead of gathering one column at
+   a time. */
+static void hy_sens_g(const struct hy_sens *sn, const struct hy_sstep *sp, int k, const double *S, double *out)
 {
     const int ns = sn->ns;
-    int c, e, q, st;
-    hy_eval_u(w, t, kcap, w->u);
-    st = hy_jfp(t, x, w->p, w->u, sn->jv, sn->fpv);
-    if (st) return st;
-    sn->ngev++;
+    const double *jv = sp->jv + (size_t)k * HY_NNZ, *fpv = sp->fpv + (size_t)k * HY_FP_NNZ;
+    int c, e, q;
     memset(out, 0, sizeof(double) * (size_t)HY_NX * ns);
     for (e = 0; e < HY_NNZ; ++e) {
-        const double a = sn->jv[e];
+        const double a = jv[e];
         double *restrict o = out + (size_t)HY_JAC_ROW[e] * ns;
         const double *restrict s = S + (size_t)HY_JAC_COL[e] * ns;
         if (a == 0.0) continue;
         for (c = 0; c < ns; ++c) o[c] += a * s[c];
     }
     for (c = 0; c < ns; ++c) {
-        const int k = sn->col_p[c];
-        if (k >= 0)
-            for (q = HY_FP_PTR[k]; q < HY_FP_PTR[k + 1]; ++q) out[(size_t)HY_FP_ROW[q] * ns + c] += sn->fpv[q];
+        const int p = sn->col_p[c];
+        if (p >= 0)
+            for (q = HY_FP_PTR[p]; q < HY_FP_PTR[p + 1]; ++q) out[(size_t)HY_FP_ROW[q] * ns + c] += fpv[q];
     }
-    return 0;
 }
 
-/* Solve W X = B in place for the ns columns of the state-major block B: the dense LU's
-   substitutions row against row (the same operations, in the same order, as hy_solve on each
-   column), the sparse LU column by column through a gathered copy. */
-static void hy_sens_solve(struct hy_sens *sn, const hy_ws *w, double *B)
+/* Solve W X = B in place for the ns columns of the state-major block B, W the step's: the
+   dense LU's substitutions row against row (the same operations, in the same order, as
+   hy_solve on each column), the sparse LU (w's, sequential runs only) column by column
+   through a gathered copy. */
+static void hy_sens_solve(struct hy_sens *sn, const hy_ws *w, const struct hy_sstep *sp, double *B)
 {
     const int ns = sn->ns;
     int i, j, c;
-    if (!w->use_dense) {
+    if (!sp->use_dense) {
         double *v = sn->col;
         for (c = 0; c < ns; ++c) {
             for (i = 0; i < HY_NX; ++i) v[i] = B[(size_t)i * ns + c];
@@ -91,10 +214,10 @@ static void hy_sens_solve(struct hy_sens *sn, const hy_ws *w, double *B)
         return;
     }
     {
-        const double *restrict a = w->dA;
+        const double *restrict a = sp->dA;
         double *restrict V = sn->Vb;
         for (i = 0; i < HY_NX; ++i)                               /* V = P B */
-            memcpy(V + (size_t)i * ns, B + (size_t)w->dpiv[i] * ns, sizeof(double) * (size_t)ns);
+            memcpy(V + (size_t)i * ns, B + (size_t)sp->dpiv[i] * ns, sizeof(double) * (size_t)ns);
         for (j = 0; j < HY_NX - 1; ++j) {
             const double *restrict vj = V + (size_t)j * ns;
             for (i = j + 1; i < HY_NX; ++i) {
@@ -106,7 +229,7 @@ static void hy_sens_solve(struct hy_sens *sn, const hy_ws *w, double *B)
         }
         for (j = HY_NX - 1; j >= 0; --j) {
             double *restrict vj = V + (size_t)j * ns;
-            const double d = w->ddinv[j];
+            const double d = sp->ddinv[j];
             for (c = 0; c < ns; ++c) vj[c] *= d;
             for (i = 0; i < j; ++i) {
                 const double l = a[(size_t)i * HY_NX + j];
@@ -119,7 +242,8 @@ static void hy_sens_solve(struct hy_sens *sn, const hy_ws *w, double *B)
     }
 }
 
-/* dy/dtheta at output i (time to, state x, sensitivities S, state-major). */
+/* dy/dtheta at output i (time to, state x, sensitivities S, state-major); w gives the inputs
+   and parameters (its input lookup cache is written). */
 static int hy_sens_emit(struct hy_sens *sn, hy_ws *w, int i, double to, const double *x, const double *S)
 {
     if (sn->dX)
@@ -153,61 +277,40 @@ static int hy_sens_emit(struct hy_sens *sn, hy_ws *w, int i, double to, const do
     return 0;
 }
 
-/* outputs at the initial time (already emitted by the integrator up to iout). */
-static int hy_sens_begin(struct hy_sens *sn, hy_ws *w, const double *t_out, int iout, const double *x)
-{
-    int i, st;
-    for (i = 0; i < iout; ++i)
-        if ((st = hy_sens_emit(sn, w, i, t_out[i], x, sn->S))) return st;
-    sn->iout = iout;
-    return 0;
-}
-
-/* the sensitivity step that follows an accepted state step (t, x) -> (t + h, xn) with
-   stages K and factorised W; writes the output sensitivities in (t, t + h]. */
-static int hy_sens_step(struct hy_sens *sn, hy_ws *w, double t, double tnext, double h, const double *x, const double *xn,
-                        const double *K, int kcap, const double *t_out, int n_out)
+/* The column part of a sensitivity step (the step record sp from hy_sens_points): the
+   stages of S, S at tnext, and the output sensitivities in (t, tnext]. */
+static int hy_sens_columns(struct hy_sens *sn, hy_ws *w, const struct hy_sstep *sp, const double *t_out, int n_out)
 {
     const int n = HY_NX, ns = sn->ns;
     const size_t m = (size_t)n * ns;
-    const double sq = 1.4901161193847656e-08, ih = 1.0 / h;
-    double *S = sn->S, *Sy = sn->Sy, *g0 = sn->g0, *g1 = sn->g1, *gt = sn->gt, *y = sn->ye;
+    const double h = sp->h, t = sp->t, tnext = sp->tnext, ih = 1.0 / h;
+    double *S = sn->S, *Sy = sn->Sy, *g0 = sn->g0, *g1 = sn->g1, *gt = sn->gt;
     size_t q;
-    int is, j, i, st;
-    volatile double tt;
-    double dt;
+    int is, j, st;
 
-    if ((st = hy_sens_g(sn, w, t, x, S, kcap, g0))) return st;
-    tt = t + sq * (fabs(t) > 1.0 ? fabs(t) : 1.0);
-    dt = tt - t;
-    if ((st = hy_sens_g(sn, w, t + dt, x, S, kcap, gt))) return st;
-    for (q = 0; q < m; ++q) gt[q] = (gt[q] - g0[q]) / dt;
+    hy_sens_g(sn, sp, SP_X, S, g0);
+    hy_sens_g(sn, sp, SP_T, S, gt);
+    for (q = 0; q < m; ++q) gt[q] = (gt[q] - g0[q]) / sp->dt;
     memcpy(Sy, S, sizeof(double) * m);
-    memcpy(y, x, sizeof(double) * (size_t)n);
     for (is = 0; is < R_S; ++is) {
         double *ks = sn->KS + (size_t)is * m;
-        const double *ki = K + (size_t)is * n;
         const double hd = h * R_DT[is];
-        double kmax = 0.0;
         if (is == 0) {
             for (q = 0; q < m; ++q) ks[q] = g0[q] + hd * gt[q];
         } else {
             if (is < R_NA) {
-                for (i = 0; i < n; ++i) y[i] = x[i] + R_A[is][0] * K[i];
                 for (q = 0; q < m; ++q) Sy[q] = S[q] + R_A[is][0] * sn->KS[q];
                 for (j = 1; j < is; ++j) {
                     const double a = R_A[is][j];
-                    const double *kj = K + (size_t)j * n, *ksj = sn->KS + (size_t)j * m;
+                    const double *ksj = sn->KS + (size_t)j * m;
                     if (a == 0.0) continue;
-                    for (i = 0; i < n; ++i) y[i] += a * kj[i];
                     for (q = 0; q < m; ++q) Sy[q] += a * ksj[q];
                 }
             } else {
-                const double *kp = ki - n, *ksp = ks - m;
-                for (i = 0; i < n; ++i) y[i] += kp[i];
+                const double *ksp = ks - m;
                 for (q = 0; q < m; ++q) Sy[q] += ksp[q];
             }
-            if ((st = hy_sens_g(sn, w, t + R_CT[is] * h, y, Sy, kcap, ks))) return st;
+            hy_sens_g(sn, sp, SP_STAGE(is), Sy, ks);
             if (hd != 0.0)
                 for (q = 0; q < m; ++q) ks[q] += hd * gt[q];
             for (j = 0; j < is; ++j) {
@@ -216,20 +319,12 @@ static int hy_sens_step(struct hy_sens *sn, hy_ws *w, double t, double tnext, do
                 for (q = 0; q < m; ++q) ks[q] += cc * ksj[q];
             }
         }
-        /* M k_i: directional difference of g in x along the state stage k_i */
-        for (i = 0; i < n; ++i) {
-            const double r = fabs(ki[i]) / (fabs(x[i]) + w->atol[i] / w->rtol);
-            if (r > kmax) kmax = r;
-        }
-#ifndef HY_SENS_NOHESS
-        if (kmax > 0.0 && isfinite(kmax)) {
-            const double eps = sq / kmax;
-            for (i = 0; i < n; ++i) sn->xe[i] = x[i] + eps * ki[i];
-            if ((st = hy_sens_g(sn, w, t, sn->xe, S, kcap, g1))) return st;
+        if (sp->eps[is] > 0.0) {                 /* M k_i */
+            const double eps = sp->eps[is];
+            hy_sens_g(sn, sp, SP_M(is), S, g1);
             for (q = 0; q < m; ++q) ks[q] += (g1[q] - g0[q]) / eps;
         }
-#endif
-        hy_sens_solve(sn, w, ks);
+        hy_sens_solve(sn, w, sp, ks);
     }
     {
         const double *kl = sn->KS + (size_t)(R_S - 1) * m;
@@ -253,7 +348,7 @@ static int hy_sens_step(struct hy_sens *sn, hy_ws *w, double t, double tnext, do
             const double to = t_out[io];
             const double *xo = sn->X_out + (size_t)io * n;
             if (to == tnext) {
-                st = hy_sens_emit(sn, w, io, to, xn, sn->Sn);
+                st = hy_sens_emit(sn, w, io, to, sp->xn, sn->Sn);
             } else {
                 double s = (to - t) / (tnext - t), s1;
                 if (s < 0.0) s = 0.0;
@@ -271,44 +366,5 @@ static int hy_sens_step(struct hy_sens *sn, hy_ws *w, double t, double tnext, do
     }
     { double *tmp = sn->S; sn->S = sn->Sn; sn->Sn = tmp; }
     return 0;
-}
-
-static int hy_integrate(const double *p, int n_tin, const double *t_in, const double *U, const int *u_hold,
-                        double t0, const double *x0, int n_out, const double *t_out, double rtol,
-                        const double *atol, double h0, double hmax, long max_steps, double *X_out,
-                        double *Y_out, double *stats, struct hy_sens *sn);
-
-/* hy_simulate plus sensitivities: ns columns, col_p[c] the parameter index of column c
-   (-1: an initial-state column, whose S0 column is given), S0 HY_NX*ns state-major
-   (S0[j*ns + c], a C-ordered nx x ns array),
-   dY_out n_out*HY_NY*ns (row-major: output sample, output, column), dX_out (NULL or
-   n_out*HY_NX*ns) the state sensitivities.  stats[8] = number
-   of sensitivity right-hand-side evaluations. */
-int hy_simulate_sens(
-    const double *p, int n_tin, const double *t_in, const double *U, const int *u_hold,
-    double t0, const double *x0, int n_out, const double *t_out, double rtol, const double *atol,
-    double h0, double hmax, long max_steps, double *X_out, double *Y_out, double *stats,
-    int ns, const int *col_p, const double *S0, double *dY_out, double *dX_out)
-{
-    struct hy_sens sn;
-    const size_t m = (size_t)HY_NX * (ns > 0 ? ns : 1);
-    double *blk;
-    int ret;
-    memset(&sn, 0, sizeof sn);
-    if (ns < 1 || !col_p || !S0 || (HY_NY > 0 && !dY_out)) return -1;
-    blk = (double *)malloc(sizeof(double) * ((7 + R_S + R_NH) * m + HY_NNZ + HY_FP_NNZ + HY_GX_NNZ
-                                             + HY_GP_NNZ + 3 * HY_NX + 4));
-    if (!blk) return -1;
-    sn.ns = ns; sn.col_p = col_p; sn.dY = dY_out; sn.dX = dX_out; sn.X_out = X_out;
-    sn.S = blk; sn.Sn = sn.S + m; sn.Sy = sn.Sn + m; sn.g0 = sn.Sy + m; sn.g1 = sn.g0 + m; sn.gt = sn.g1 + m;
-    sn.KS = sn.gt + m; sn.DS = sn.KS + (size_t)R_S * m; sn.jv = sn.DS + (size_t)R_NH * m;
-    sn.fpv = sn.jv + HY_NNZ + 1; sn.gxv = sn.fpv + HY_FP_NNZ + 1; sn.gpv = sn.gxv + HY_GX_NNZ + 1;
-    sn.xe = sn.gpv + HY_GP_NNZ + 1; sn.ye = sn.xe + HY_NX; sn.col = sn.ye + HY_NX; sn.Vb = sn.col + HY_NX;
-    memcpy(sn.S, S0, sizeof(double) * m);
-    ret = hy_integrate(p, n_tin, t_in, U, u_hold, t0, x0, n_out, t_out, rtol, atol, h0, hmax, max_steps,
-                       X_out, Y_out, stats, &sn);
-    stats[8] = (double)sn.ngev;
-    free(blk);
-    return ret;
 }
 #endif
