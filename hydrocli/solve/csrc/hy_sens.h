@@ -42,25 +42,42 @@
 #error "hy_sens.h: sensitivities need the analytic Jacobian (HY_HAS_JAC)"
 #endif
 
+/* Fields are grouped by the thread that writes them during a run, each group on its own
+   cache lines (HY_LINE): in a pipelined run a line written by one thread and read by the other
+   moves between the two cores' caches at every write ("false sharing"); the work arrays of
+   the two threads are separate allocations for the same reason. */
+#define HY_LINE 64
 struct hy_sens {
+    /* set before the run, read by both threads */
     int ns;                  /* sensitivity columns */
     const int *col_p;        /* parameter index of a column, -1 for an initial-state column */
-    double *S, *Sn, *Sy;     /* HY_NX*ns, state-major (S[j*ns + c]): current, new, stage value */
-    double *KS, *DS;         /* R_S and R_NH blocks of HY_NX*ns: stages, dense coefficients */
-    double *g0, *g1, *gt;    /* HY_NX*ns work */
-    double *gxv, *gpv, *xe, *ye;
-    double *Vb, *col;        /* the block solve's work: HY_NX*ns, HY_NX */
     double *dY;              /* n_out * HY_NY * ns */
     double *dX;              /* n_out * HY_NX * ns, or NULL */
     const double *X_out;
-    int iout;                /* outputs whose sensitivities are written */
-    long ngev;               /* evaluations of df/dx, df/dp (the points) */
     int pipelined;           /* asked for the two-thread pipeline (hy_sens_pipe.h) */
     struct hy_sstep *ring;   /* nring step records: one when sequential, HY_RING when pipelined */
     int nring;
+    /* written by the integrator's thread (hy_sens_points) */
+    _Alignas(HY_LINE) long ngev;   /* evaluations of df/dx, df/dp (the points) */
+    double *xe, *ye;         /* HY_NX work each */
     struct hy_pipe *pipe;    /* the running pipeline, or NULL */
     int was_pipelined;       /* the column thread ran */
+    /* written by the column thread (hy_sens_columns; the integrator's in a sequential run) */
+    _Alignas(HY_LINE) double *S, *Sn, *Sy;   /* HY_NX*ns, state-major (S[j*ns + c]): current, new, stage value */
+    double *KS, *DS;         /* R_S and R_NH blocks of HY_NX*ns: stages, dense coefficients */
+    double *g0, *g1, *gt;    /* HY_NX*ns work */
+    double *gxv, *gpv;
+    double *Vb, *col;        /* the block solve's work: HY_NX*ns, HY_NX */
+    int iout;                /* outputs whose sensitivities are written */
+    _Alignas(HY_LINE) char end;    /* (nothing else on the last line) */
 };
+
+/* n bytes rounded up to whole cache lines, from a line boundary (C11; free with free) */
+static void *hy_lines(size_t n)
+{
+    n = (n + HY_LINE - 1) / HY_LINE * HY_LINE;
+    return aligned_alloc(HY_LINE, n ? n : HY_LINE);
+}
 
 /* points of one step (HY_SP of them): index of (t, x), (t + dt, x), stage i (1 .. R_S-1),
    and x + eps_i k_i (i = 0 .. R_S-1) */
@@ -70,9 +87,10 @@ struct hy_sens {
 #define SP_STAGE(i) (1 + (i))
 #define SP_M(i) (R_S + 1 + (i))
 
-/* one accepted state step, with everything its sensitivity columns need (hy_sens_points) */
+/* one accepted state step, with everything its sensitivity columns need (hy_sens_points);
+   a record and its arrays start on a cache line of their own */
 struct hy_sstep {
-    double t, tnext, h, dt;
+    _Alignas(HY_LINE) double t, tnext, h, dt;
     double eps[R_S];         /* > 0: the M k_i term of stage i is eps_i-scaled; 0: none */
     int use_dense;
     double *x, *xn, *K;      /* HY_NX, HY_NX, R_S*HY_NX: the step's start, end and stages */
@@ -81,22 +99,24 @@ struct hy_sstep {
     double *jv, *fpv;        /* HY_SP blocks of HY_NNZ and HY_FP_NNZ values */
 };
 
-#define HY_SS_DBL ((size_t)(2 + R_S) * HY_NX + (size_t)HY_NX * HY_NX + HY_NX \
-                   + (size_t)HY_SP * HY_NNZ + (size_t)HY_SP * HY_FP_NNZ + 2)
+/* doubles of a record's arrays, whole cache lines; its pivot ints likewise */
+#define HY_SS_DBL (((size_t)(2 + R_S) * HY_NX + (size_t)HY_NX * HY_NX + HY_NX \
+                    + (size_t)HY_SP * HY_NNZ + (size_t)HY_SP * HY_FP_NNZ + 2 + 7) / 8 * 8)
+#define HY_SS_INT (((size_t)HY_NX + 15) / 16 * 16)
 
 /* storage of count step records in two blocks (*dbl, *ibl; free both) */
 static int hy_sstep_alloc(struct hy_sstep *sp, int count, double **dbl, int **ibl)
 {
     int c;
-    *dbl = (double *)malloc(sizeof(double) * HY_SS_DBL * (size_t)count);
-    *ibl = (int *)malloc(sizeof(int) * (size_t)HY_NX * (size_t)count);
+    *dbl = (double *)hy_lines(sizeof(double) * HY_SS_DBL * (size_t)count);
+    *ibl = (int *)hy_lines(sizeof(int) * HY_SS_INT * (size_t)count);
     if (!*dbl || !*ibl) return -1;
     for (c = 0; c < count; ++c) {
         struct hy_sstep *s = sp + c;
         s->x = *dbl + (size_t)c * HY_SS_DBL; s->xn = s->x + HY_NX; s->K = s->xn + HY_NX;
         s->dA = s->K + (size_t)R_S * HY_NX; s->ddinv = s->dA + (size_t)HY_NX * HY_NX;
         s->jv = s->ddinv + HY_NX; s->fpv = s->jv + (size_t)HY_SP * HY_NNZ + 1;
-        s->dpiv = *ibl + (size_t)c * HY_NX;
+        s->dpiv = *ibl + (size_t)c * HY_SS_INT;
     }
     return 0;
 }
