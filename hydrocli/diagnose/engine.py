@@ -204,6 +204,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                     for g in sorted({grad[c.key] for c in best} - set(base_ref))]
         wave_fits = candidate_fits.fit_all(controls + [dict(common, **drawing, key=c.key, text=texts[c.key],
                                                             validate=validate, starts=scores[c.key].get("starts"),
+                                                            transfers=scores[c.key].get("transfers"),
                                                             max_evals=st.candidate_evals, n_eff=n_eff,
                                                             gradient=grad[c.key], stops=stops_of(c),
                                                             each_base=c.effect in COMPLIANCES,

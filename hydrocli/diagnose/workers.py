@@ -56,9 +56,34 @@ def screen_one(job: dict) -> dict:
                    for prm in job["params"]}]
         starts += _log_grid(job["params"]) + _one_end_probes(job["params"])
         return {"key": job["key"], "dr2": res["dr2"], "t": res["t"].tolist(), "p_value": res["p"], "error": None,
-                "starts": starts}
+                "starts": starts, "transfers": _transfer_starts(job["params"], model, p)}
     except Exception as exc:  # a candidate that cannot be built or simulated is reported, not fatal
         return {"key": job["key"], "dr2": 0.0, "t": [], "p_value": 1.0, "error": f"{type(exc).__name__}: {exc}"}
+
+
+def _transfer_starts(params, model, p: np.ndarray) -> list[dict]:
+    """The base re-expressed in the candidate's law (:attr:`NewParam.takes_over`): each such
+    parameter set to what the base parameter holds (value ** power: a resistance from the
+    base's conductance), the base parameter back at its "off" value, the other new parameters
+    at their start. None when the base parameter is off (nothing to take over) or when the
+    re-expressed value falls outside the parameter's bounds."""
+    over = [prm for prm in params if prm.takes_over]
+    if not over:
+        return []
+    start = {prm.name: prm.start for prm in params}
+    for prm in over:
+        name, off, power = prm.takes_over
+        if name not in model.param_names:
+            return []
+        v = float(p[model.param_index(name)])
+        if v == off or not v > 0:
+            return []
+        held = v ** power
+        if not prm.bounds[0] <= held <= prm.bounds[1]:
+            return []
+        start[prm.name] = held
+        start[name] = off
+    return [start]
 
 
 def _probes(probed) -> list[dict]:
@@ -179,7 +204,8 @@ def parameter_rows(params, estimates: dict[str, float], stderr: dict[str, float]
 
 
 def _fit_starts(obj, p: np.ndarray, model, starts: list[dict], drawn: np.ndarray | None = None,
-                each_base: bool = False, basins: dict[str, tuple[float, ...]] | None = None) -> list[np.ndarray]:
+                each_base: bool = False, basins: dict[str, tuple[float, ...]] | None = None,
+                transfers: list[dict] | None = None) -> list[np.ndarray]:
     """Where a candidate's fit starts: the start of lowest cost, and — when that is the effect
     switched off (``starts[0]``, as :func:`screen_one` lists them) — also the best start with
     the effect present. Base parameters re-identified without the effect may already mimic
@@ -211,7 +237,12 @@ def _fit_starts(obj, p: np.ndarray, model, starts: list[dict], drawn: np.ndarray
     near-rigid one: both fits went rigid. With the best start of each shape fitted as well,
     the bushing is found (k within 5 %, k₃ and the frame mass within 40 % of the truth, ΔBIC
     −14 900) — measured, by the mild shape's best start: with the strong shape's alone (a
-    stiff spring, k 2·10⁶ N/m, the cheapest of that shape) the answer stays ``none``."""
+    stiff spring, k 2·10⁶ N/m, the cheapest of that shape) the answer stays ``none``.
+
+    ``transfers``: the current base re-expressed in the candidate's law
+    (:func:`_transfer_starts`), fitted whatever they cost: a shared leak the base found, put on
+    each seal, costs what the base costs, and a cheaper start that adds a little leak on top of
+    it ends in the base's minimum."""
     bases = [p] + ([drawn] if drawn is not None and not np.array_equal(drawn, p) else [])
     vecs = []                                # (cost, vector, effect off)
     for b in bases:
@@ -240,6 +271,10 @@ def _fit_starts(obj, p: np.ndarray, model, starts: list[dict], drawn: np.ndarray
     if each_base and n > 1:
         for j in range(len(bases)):
             add_cheapest(lambda i: i // n == j)
+    for start in transfers or []:
+        q = model.param_vector(start, base=p)
+        if not any(np.array_equal(q, o) for o in out):
+            out.append(q)
     return out
 
 

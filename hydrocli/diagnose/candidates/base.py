@@ -61,6 +61,10 @@ class NewParam:
     basins: bool = False                   # each of its shapes is a basin of its own (a spring's mild or
                                            # strong hardening): the fit also runs from the best start of
                                            # each shape (workers._fit_starts), not only from the best start
+    takes_over: tuple = ()                 # (base parameter, its "off" value, power): a law that can hold
+                                           # what that base parameter holds (a seal's resistance, the base's
+                                           # shared leak conductance: power −1). The fit also starts from the
+                                           # base re-expressed in this law (workers._transfer_starts)
 
 
 @dataclass

