@@ -120,3 +120,34 @@ def test_each_shape_of_a_basin_companion_is_fitted_from_its_best_start():
     assert np.allclose(out[2], [1e7, 1.0]) and np.allclose(out[3], [1e7, 1e4])   # the best start of each shape
     # a shape already among the starts chosen is not fitted twice
     assert len(_fit_starts(obj, base, model, starts, basins={"hc": (1e-6,)})) == 2
+
+
+def test_a_law_that_can_hold_the_bases_leak_starts_from_it():
+    """NewParam.takes_over: a seal's resistance can hold what the base's shared leak
+    conductance c_el holds (R = 1/c_el). The start is the base re-expressed in the seal law
+    (each seal at 1/c_el, c_el back at 0); none when the base has no leak or the resistance
+    would leave its bounds. It is fitted whatever it costs: a cheaper start that adds a little
+    leak on top of the found c_el ends in the base's minimum (held-out seed 61's EHA)."""
+    import numpy as np
+    from types import SimpleNamespace
+    from hydrocli.diagnose.workers import _fit_starts, _transfer_starts
+
+    over = ("cyl.c_el", 0.0, -1.0)
+    seals = [NewParam(f"seal_{i}.R", 1e16, (1e9, 1e17), (2e9, 2e14), 5e10, True, takes_over=over) for i in (1, 2)]
+    names = ["cyl.c_el", "seal_1.R", "seal_2.R", "m"]
+    model = SimpleNamespace(param_names=names, param_index=names.index,
+                            param_vector=lambda o, base: np.array([o.get(n, base[i]) for i, n in enumerate(names)]))
+    p = np.array([2e-13, 1e16, 1e16, 70.0])
+    (start,) = _transfer_starts(seals, model, p)
+    assert start == {"cyl.c_el": 0.0, "seal_1.R": 5e12, "seal_2.R": 5e12}
+    assert _transfer_starts(seals, model, np.array([0.0, 1e16, 1e16, 70.0])) == []       # nothing found
+    assert _transfer_starts(seals, model, np.array([1e-18, 1e16, 1e16, 70.0])) == []     # R 1e18 > bound
+    plain = [NewParam("orifice.Kv", 0.0, (0.0, 1e-6), (1e-11, 1e-6), 1e-9, True)]
+    assert _transfer_starts(plain, model, p) == []
+    # fitted although dearer than the cheapest starts (off, and a little leak on top of c_el)
+    obj = SimpleNamespace(cost=lambda q: float(q[0] * 1e13 + (1e16 - q[2]) * 1e-17))
+    starts = [{"seal_1.R": 1e16, "seal_2.R": 1e16}, {"seal_1.R": 1e16, "seal_2.R": 3e15}]
+    out = _fit_starts(obj, p, model, starts)
+    assert len(out) == 2
+    out = _fit_starts(obj, p, model, starts, transfers=[start])
+    assert len(out) == 3 and np.allclose(out[2], [0.0, 5e12, 5e12, 70.0])

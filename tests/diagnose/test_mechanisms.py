@@ -515,9 +515,12 @@ def test_a_value_pushed_to_a_bound_far_from_the_files_is_restrained_near_the_fil
     assert info.value == pytest.approx(3.41e-3 * 3) and "friction.vs_p" in m.free_params
 
 
-def test_single_rod_cylinder_gets_a_rod_seal_leak_form_and_symmetric_actuators_do_not():
-    """External leakage of a single-rod cylinder happens at its rod seal: a form that drains the
-    rod-side (smaller-area) chamber only; a double-rod cylinder or a vane has no such side."""
+def test_rod_seal_leak_forms_drain_the_chambers_that_have_a_rod_seal():
+    """External leakage of a cylinder happens at its rod seals. A single-rod cylinder has one,
+    on the rod side: a form that drains the rod-side (smaller-area) chamber only. A double-rod
+    cylinder has one at each end: a conductance per seal, which its c_el (one conductance for
+    both chambers) cannot express. Both forms can start from a c_el the base fit found
+    (NewParam.takes_over). A vane (no rod seal) gets neither."""
     from hydrocli.model.builder import build_model
     lift = load_netlist(ROOT / "machines" / "luffing_cylinder.yaml")
     cands, _ = catalogue(Context(lift, set(), {}, {}, {}))
@@ -526,8 +529,19 @@ def test_single_rod_cylinder_gets_a_rod_seal_leak_form_and_symmetric_actuators_d
     new = [n for n in aug.components if n not in lift.components]
     assert len(new) == 1 and aug.components[new[0]].ports["A"] == lift.components["cylinder"].ports["B"]
     assert set(p.name for p in rod.params) <= set(build_model(aug).free_params)
+    assert all(p.takes_over == ("cylinder.c_el", 0.0, -1.0) for p in rod.params)
     eha = load_netlist(ROOT / "machines" / "eha_testbench.yaml")
-    assert not any(c.key.endswith("#rod_seal") for c in catalogue(Context(eha, set(), {}, {}, {}))[0])
+    cands = catalogue(Context(eha, set(), {}, {}, {}))[0]
+    assert not any(c.key.endswith("#rod_seal") for c in cands)
+    seals = next(c for c in cands if c.key.endswith("#rod_seals"))
+    aug = seals.build(eha)
+    new = sorted(n for n in aug.components if n not in eha.components)
+    ports = {aug.components[n].ports["A"] for n in new}
+    assert len(new) == 2 and ports == {eha.components["cylinder"].ports["A"], eha.components["cylinder"].ports["B"]}
+    assert all(p.takes_over == ("cylinder.c_el", 0.0, -1.0) for p in seals.params)
+    assert set(p.name for p in seals.params) <= set(build_model(aug).free_params)
+    vane = load_netlist(ROOT / "machines" / "rotary_drive.yaml")
+    assert not any("rod_seal" in c.key for c in catalogue(Context(vane, set(), {}, {}, {}))[0])
 
 
 def test_a_compliance_is_screened_at_more_than_one_size():
