@@ -55,7 +55,7 @@ def register(app: typer.Typer) -> None:
         jobs: int = typer.Option(2, "--jobs", "-j", help="batch: parallel worker processes"),
         scheduler: str = typer.Option(None, "--scheduler", help="batch: Dask scheduler address tcp://HOST:PORT"),
         workers: int = typer.Option(2, "--workers", help="threads for a Jacobian: finite-difference columns, "
-                                    "or the sensitivity columns split between parallel runs"),
+                                    "or a sensitivity run pipelined in two threads (states | columns)"),
         rtol: float = typer.Option(1e-6, "--rtol", help="relative tolerance of the integrator while fitting"),
         profile: list[str] = typer.Option(None, "--profile", help="profile-likelihood interval of this free "
                                                                   "parameter (refits; repeatable, or 'all')"),

@@ -118,7 +118,7 @@ class Objective:
 
     def residuals_jacobian(self, p: np.ndarray, wrt: list[str], threads: int = 1) -> tuple[np.ndarray, np.ndarray]:
         """Residuals and ∂r/∂p[wrt] from forward sensitivities: one simulation per experiment
-        (``solve.sensitivities``; its columns split between ``threads`` parallel runs); an
+        (``solve.sensitivities``; pipelined in two threads when ``threads`` ≥ 2); an
         experiment that settles first carries ∂x0/∂p from its settling run. A failed
         simulation gives the failure residual and zero derivatives."""
         from ..solve.sensitivities import output_sensitivities

@@ -135,9 +135,9 @@ def gauss_newton_gain(J: np.ndarray, r: np.ndarray, z: np.ndarray, edge: float =
 
 
 def fit(model: Model, experiments: list[Experiment], free: list[str] | None = None, **kw) -> FitResult:
-    """``workers`` > 1 evaluates finite-difference Jacobian columns, or splits the sensitivity
-    columns, between that many threads (the compiled solver releases the GIL); the result does
-    not depend on it. ``gradient``:
+    """``workers`` > 1 evaluates finite-difference Jacobian columns between that many threads,
+    or pipelines each sensitivity run in two (``solve.sensitivities``; the compiled solver
+    releases the GIL); the result does not depend on it. ``gradient``:
     ``auto`` uses sensitivities when the model has an analytic Jacobian. ``assess`` adds
     bootstrap intervals, the identifiability report and the effect of the fixed parameters
     (:mod:`.uncertainty`; one more sensitivity simulation). The linear algebra runs on one
