@@ -55,8 +55,7 @@ struct hy_sens {
     double *dX;              /* n_out * HY_NX * ns, or NULL */
     const double *X_out;
     int pipelined;           /* asked for the two-thread pipeline (hy_sens_pipe.h) */
-    struct hy_sstep *ring;   /* nring step records: one when sequential, HY_RING when pipelined */
-    int nring;
+    struct hy_sstep *ring;   /* step records: HY_RING when pipelined, else one */
     /* written by the integrator's thread (hy_sens_points) */
     _Alignas(HY_LINE) long ngev;   /* evaluations of df/dx, df/dp (the points) */
     double *xe, *ye;         /* HY_NX work each */

@@ -127,7 +127,7 @@ static int hy_sens_begin(struct hy_sens *sn, hy_ws *w, const double *t_out, int 
     for (i = 0; i < iout; ++i)
         if ((st = hy_sens_emit(sn, w, i, t_out[i], x, sn->S))) return st;
     sn->iout = iout;
-    if (!sn->pipelined || sn->nring < HY_RING || w->sparse) return 0;
+    if (!sn->pipelined || w->sparse) return 0;
     pp = (struct hy_pipe *)hy_lines(sizeof *pp);
     if (!pp) return 0;                                   /* run in sequence */
     memset(pp, 0, sizeof *pp);
@@ -222,7 +222,7 @@ int hy_simulate_sens(
     }
     memset(sn, 0, sizeof *sn);
     sn->ns = ns; sn->col_p = col_p; sn->dY = dY_out; sn->dX = dX_out; sn->X_out = X_out;
-    sn->pipelined = pipelined != 0; sn->ring = ring; sn->nring = nring;
+    sn->pipelined = pipelined != 0; sn->ring = ring;
     sn->xe = wa; sn->ye = wa + HY_NX;
     sn->S = blk; sn->Sn = sn->S + m; sn->Sy = sn->Sn + m; sn->g0 = sn->Sy + m; sn->g1 = sn->g0 + m; sn->gt = sn->g1 + m;
     sn->KS = sn->gt + m; sn->DS = sn->KS + (size_t)R_S * m; sn->gxv = sn->DS + (size_t)R_NH * m;
