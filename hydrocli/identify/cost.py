@@ -23,6 +23,15 @@ from ..solve.simulate import SolverOptions, simulate
 
 COSTS = ("esr", "seed004", "wls")
 FAIL_RESIDUAL = 10.0   # per-sample residual of a failed simulation (≫ any fit)
+DIVERGED = 1e50        # |residual| or |∂r/∂p| beyond this, in any units, is a run that blew up
+
+
+def bounded_residual(r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The residual with every sample that is NaN or beyond ±DIVERGED set to the failure's value,
+    and the mask of those samples: a run that blew up without failing, whose squares would
+    overflow the optimiser's sums (and LAPACK's scaling) if left as they were."""
+    bad = ~(np.abs(r) < DIVERGED)
+    return (np.where(bad, FAIL_RESIDUAL, r) if bad.any() else r), bad
 
 
 @dataclass
@@ -112,8 +121,7 @@ class Objective:
                 out.extend(np.full(int(m.sum()), FAIL_RESIDUAL) for m in t.masks)
                 continue
             for col, y, m, s in zip(t.cols, t.values, t.masks, t.scales):
-                r = (Y[m, col] - y[m]) / (s * np.sqrt(m.sum()))
-                out.append(np.where(np.isfinite(r), r, FAIL_RESIDUAL))
+                out.append(bounded_residual((Y[m, col] - y[m]) / (s * np.sqrt(m.sum())))[0])
         return np.concatenate(out) if out else np.zeros(0)
 
     def residuals_jacobian(self, p: np.ndarray, wrt: list[str], threads: int = 1) -> tuple[np.ndarray, np.ndarray]:
@@ -144,15 +152,11 @@ class Objective:
                 continue
             for col, y, m, s in zip(t.cols, t.values, t.masks, t.scales):
                 k = s * np.sqrt(m.sum())
-                r = (tr.Y[m, col] - y[m]) / k
+                r, bad = bounded_residual((tr.Y[m, col] - y[m]) / k)
                 jr = tr.dY[m, col, :]
                 jr /= k
-                bad = ~np.isfinite(r)
-                if bad.any():
-                    r = np.where(bad, FAIL_RESIDUAL, r)
-                    jr[bad] = 0.0
-                if not np.isfinite(jr).all():
-                    jr[~np.isfinite(jr)] = 0.0
+                jr[bad] = 0.0                   # no slope where the residual is the failure's
+                jr[~(np.abs(jr) < DIVERGED)] = 0.0
                 out_r.append(r)
                 out_j.append(jr)
         if not out_r:

@@ -121,3 +121,32 @@ def test_a_model_too_large_for_sensitivity_code_falls_back_to_differences(lag, m
     assert fit(model, [exp], max_evals=20).gradient == "finite-differences"
     with pytest.raises(IdentifyError, match="sensitivities are not available"):
         fit(model, [exp], gradient="sensitivities")
+
+
+@pytest.mark.parametrize("gradient", ["sensitivities", "finite-differences"])
+def test_a_run_that_blows_up_without_failing_does_not_overflow_the_search(lag, gradient, monkeypatch):
+    """Trial runs far from the optimum (lag.k > 3) return a finite but absurd tail (1e200, as a
+    diverged integration can): those samples count as a failed run's, with no slope, so the
+    optimiser's sums and the covariance's SVD see no overflow and the fit still finds k = 2."""
+    import warnings
+
+    from hydrocli.identify import cost
+    from hydrocli.solve import sensitivities
+    model, exp = lag
+    k = model.param_index("lag.k")
+    plain, sens = cost.simulate, sensitivities.output_sensitivities
+
+    def blow(res, p):
+        if p[k] > 3.0:
+            res.Y[-20:] *= 1e200
+            if getattr(res, "dY", None) is not None:
+                res.dY[-20:] *= 1e200
+        return res
+
+    monkeypatch.setattr(cost, "simulate", lambda m, *a, p, **kw: blow(plain(m, *a, p=p, **kw), p))
+    monkeypatch.setattr(sensitivities, "output_sensitivities", lambda m, *a, p, **kw: blow(sens(m, *a, p=p, **kw), p))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")          # an overflow in the search or in LAPACK fails the test
+        res = fit(model, [exp], gradient=gradient, p_start=model.param_vector({"lag.k": 5.0}))
+    assert res.estimates[res.names.index("lag.k")] == pytest.approx(2.0, rel=0.01)
+    assert np.all(np.isfinite(res.stderr)) and np.isfinite(res.cost)
