@@ -159,9 +159,10 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
         size = abs(v - p.ref)
         inside = p.plausible[0] <= (v if p.scale else size) <= p.plausible[1]
         plausible_any |= inside and p.primary
-        if at_bound and inside and (p.primary or size > 1e-3 * (p.bounds[1] - p.bounds[0])):
+        if at_bound and inside and not p.limits and (p.primary or size > 1e-3 * (p.bounds[1] - p.bounds[0])):
             # (a companion left at its "off" value is unused, not pushed: a linear rod–load
-            # link needs no joint friction)
+            # link needs no joint friction; one whose bound is its law's limit has found the
+            # limiting law: a supply line laminar over all its drops, held-out seed 64's lift)
             reasons.append(f"{p.name} ended at a bound ({v:.3g})")
         dev = p.scale or size
         if p.primary and inside and np.isfinite(s) and dev > 0 and s / dev > MAX_REL_SE:

@@ -96,3 +96,34 @@ def test_an_imprecise_candidate_is_preferred_only_when_it_beats_every_precise_on
     assert _dominant([(-15879, air, {})], [(-1027, hose, {}), (-900, leak, {})], rows) is None  # leak gains more
     assert _dominant([(-800, air, {})], [(-1027, hose, {})], rows) is None           # hose fits the training better
     assert _dominant([], [(-1027, hose, {})], rows) is None
+
+
+def test_a_companion_ending_on_its_laws_limit_has_found_that_law():
+    """The supply restriction's law q = Kv·Δp/(Δp² + Δp_lam²)^¼ (orifice.py) is, at Δp_lam's upper
+    bound, the laminar law Kv·Δp/√Δp_lam over every drop up to a tenth of it (50 bar), and at
+    its lower bound the turbulent Kv·√Δp above 1 bar: a fit that ends on either bound has found
+    a laminar line or a sharp restriction (held-out seed 64's lift: a laminar supply line
+    refused for 'dp_lam ended at a bound' and a valve overlap named instead). An ordinary
+    companion pushed to its bound is still refused."""
+    import numpy as np
+
+    from hydrocli.diagnose.candidates.circuit import DP_LAM, DP_LAM_BOUNDS
+
+    law = lambda dp, lam: dp / (dp ** 2 + lam ** 2) ** 0.25    # noqa: E731  (Kv = 1)
+    lo, hi = DP_LAM_BOUNDS
+    dp = np.linspace(1e3, 0.1 * hi, 500)
+    assert np.allclose(law(dp, hi), dp / np.sqrt(hi), rtol=3e-3)
+    dp = np.linspace(1e5, 3e7, 500)
+    assert np.allclose(law(dp, lo), np.sqrt(dp), rtol=3e-3)
+
+    def cand(limits):
+        return Candidate("supply_pressure_drop", "supply", [
+            NewParam("o.Kv", 1e-5, (1e-8, 1e-4), (1e-7, 1e-5), 1e-6, True),
+            NewParam("o.dp_lam", DP_LAM, DP_LAM_BOUNDS, DP_LAM_BOUNDS, DP_LAM, True, primary=False, limits=limits)],
+            lambda n: n, "continuity", "test")
+    fit = {"names": ["o.Kv", "o.dp_lam"], "estimates": [8e-7, hi], "stderr": [1e-8, 1e9], "cost": 0.2}
+    laminar = accept.judge(cand(True), fit, 1.0, 500, 10.0, 2.0, 0.2)
+    assert laminar["passed"], laminar["reasons"]
+    pushed = accept.judge(cand(False), fit, 1.0, 500, 10.0, 2.0, 0.2)
+    assert not pushed["passed"] and any("dp_lam ended at a bound" in r for r in pushed["reasons"])
+

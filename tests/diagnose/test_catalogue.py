@@ -90,6 +90,17 @@ def test_supply_restriction_may_be_a_laminar_line(eha):
     assert net2.components[lam.name.split(".")[0]].params["dp_lam"].free
 
 
+def test_only_companions_bounded_by_limiting_laws_may_end_on_a_bound(eha):
+    """``limits`` (a fit ending on the bound has found a law, accept.judge) is carried by the
+    supply restriction's Δp_lam (sharp orifice … laminar line) and air's polytropic exponent
+    (isothermal 1 … adiabatic 1.4), by no primary and by no other companion of the catalogue."""
+    net, ctx = eha
+    limited = {(c.effect, p.name.split(".")[-1]): p for c in catalogue(ctx)[0] for p in c.params if p.limits}
+    assert set(limited) == {("supply_pressure_drop", "dp_lam"), ("entrained_air", "air_n")}
+    assert not any(p.primary for p in limited.values())
+    assert limited[("entrained_air", "air_n")].bounds == (1.0, 1.4)
+
+
 def test_line_candidate_is_a_hose_whose_volume_grows_with_its_length(eha):
     """The line candidate inserts a π-lumped hose per work port: length primary (inertance,
     loss and volume together), its effective bulk modulus (oil and wall), its bore and where

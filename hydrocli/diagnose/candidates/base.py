@@ -65,6 +65,10 @@ class NewParam:
                                            # what that base parameter holds (a seal's resistance, the base's
                                            # shared leak conductance: power −1). The fit also starts from the
                                            # base re-expressed in this law (workers._transfer_starts)
+    limits: bool = False                   # a companion whose bounds are its law's limiting forms, each a
+                                           # law of its own (a restriction's sharp-orifice and fully laminar
+                                           # laws, air's isothermal and adiabatic exponents): a fit that ends
+                                           # on one names the form, it has not pushed a value out of reach
 
 
 @dataclass

@@ -105,7 +105,7 @@ class CircuitFamily(Family):
                   # Δp·Kv/√Δp_lam below it (seed 002 eqs. 8–9: R = √Δp_lam/Kv); the fit's starts
                   # are crossed with a laminar one (Δp_lam 30 bar: linear over a supply's drops)
                   NewParam(f"{orf}.dp_lam", DP_LAM, DP_LAM_BOUNDS, DP_LAM_BOUNDS, DP_LAM, True, primary=False,
-                           shapes=(LAMINAR_SHAPE,))]
+                           shapes=(LAMINAR_SHAPE,), limits=True)]
         p_start = _source_pressure(ctx, srcs[0])
 
         def build(net):
