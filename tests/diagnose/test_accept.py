@@ -109,7 +109,9 @@ def test_a_companion_ending_on_its_laws_limit_has_found_that_law():
 
     from hydrocli.diagnose.candidates.circuit import DP_LAM, DP_LAM_BOUNDS
 
-    law = lambda dp, lam: dp / (dp ** 2 + lam ** 2) ** 0.25    # noqa: E731  (Kv = 1)
+    def law(dp, lam):                                          # (Kv = 1)
+        return dp / (dp ** 2 + lam ** 2) ** 0.25
+
     lo, hi = DP_LAM_BOUNDS
     dp = np.linspace(1e3, 0.1 * hi, 500)
     assert np.allclose(law(dp, hi), dp / np.sqrt(hi), rtol=3e-3)
@@ -126,4 +128,3 @@ def test_a_companion_ending_on_its_laws_limit_has_found_that_law():
     assert laminar["passed"], laminar["reasons"]
     pushed = accept.judge(cand(False), fit, 1.0, 500, 10.0, 2.0, 0.2)
     assert not pushed["passed"] and any("dp_lam ended at a bound" in r for r in pushed["reasons"])
-

@@ -138,7 +138,7 @@ class CylinderFamily(Family):
             shape = []
             if act.param("air_exponent"):
                 shape.append(NewParam(act.param("air_exponent"), 1.2, (1.0, 1.4), (1.0, 1.4), 1.2, primary=False, ref=1.2,
-                                       limits=True))
+                                      limits=True))
             if act.param("air_dissolve"):
                 shape.append(NewParam(act.param("air_dissolve"), 5e7, (2e5, 5e7), (2e5, 5e7), 5e7, True, primary=False,
                                       ref=5e7))
