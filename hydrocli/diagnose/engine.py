@@ -189,7 +189,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     before = floor if floor is not None and residuals.total(floor.esr_validation) < residuals.total(
         stage.esr_validation) else stage
     remaining = [c for c in order if scores[c.key]["error"] is None]
-    fits, base_ref, grad, passing, judged, imprecise = {}, {}, {}, [], {}, []
+    fits, base_ref, grad, passing, judged, imprecise, bounded = {}, {}, {}, [], {}, [], []
     for wave in range(1 + EXTRA_WAVES):
         best = shortlist(remaining, scores, n_fit, readings)
         if not best:
@@ -233,6 +233,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                 passing.append((row["delta_bic"], c, fits[c.key]))
             elif row.get("imprecise"):
                 imprecise.append((row["delta_bic"], c, fits[c.key]))
+            elif row.get("bounded"):
+                bounded.append((row["delta_bic"], c, fits[c.key]))
         # the screening is a linearisation at one probe: when none of its picks passes and the
         # held-out error is still far above the noise (the verdict would be an unexplained
         # mismatch), the next effects in its order are fitted before saying so (real Festo rig,
@@ -250,11 +252,15 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                                       accepted, located, ceiling)
         out.rows.append(judged[c.key])
     lead = ranking.dominant(imprecise, passing, judged)
+    at_bound = lead is None and ranking.dominant(bounded, passing, judged, alone=False) is not None
+    if at_bound:
+        lead = ranking.dominant(bounded, passing, judged, alone=False)
     if lead is not None:
         row = judged[lead[1].key]
-        row.update(passed=True, notes=row.pop("reasons"), reasons=[])
-        log(progress, f"  {lead[1].effect} beats every precise candidate on ΔBIC and held-out gain; its size is "
-                      f"poorly determined ({'; '.join(row['notes'])})")
+        row.update(passed=True, notes=row.pop("reasons"), reasons=[], **({"at_bound": True} if at_bound else {}))
+        log(progress, f"  {lead[1].effect} beats every {'passing' if at_bound else 'precise'} candidate on ΔBIC and "
+                      f"held-out gain; {'a value ended at its bound' if at_bound else 'its size is poorly determined'} "
+                      f"({'; '.join(row['notes'])})")
     out.rows.sort(key=lambda d: (not d.get("passed", False), not d.get("fitted", False), -d["score"]))
     if not passing and lead is None:
         log(progress, "  no candidate passes BIC + validation + plausibility")
@@ -287,7 +293,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                     "delta_bic": row["delta_bic"], "esr_train_before": before.esr_train,
                     "esr_train_after": new.esr_train, "esr_validation_before": before.esr_validation,
                     "esr_validation_after": new.esr_validation, "alternatives": alternatives,
-                    **({"size_poorly_determined": row["notes"]} if row.get("notes") else {})}
+                    **({("ended_at_bound" if row.get("at_bound") else "size_poorly_determined"): row["notes"]}
+                       if row.get("notes") else {})}
     out.stage, out.candidate = new, c
     log(progress, f"  accepted {c.effect} on '{c.component}': validation ESR {fmt_esr(before.esr_validation)} "
                   f"→ {fmt_esr(new.esr_validation)}")

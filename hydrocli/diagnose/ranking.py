@@ -10,14 +10,18 @@ from .candidates import REDUCES_TO
 ALTERNATIVE = 0.8   # another passing effect with ΔBIC ≥ 80 % of the winner's is reported as nearly as good
 
 
-def dominant(imprecise: list, passing: list, rows: dict):
+def dominant(imprecise: list, passing: list, rows: dict, alone: bool = True):
     """The (ΔBIC, candidate, fit) of an imprecise candidate (:func:`accept.judge`: it fails on
     the precision of its size alone) that beats EVERY passing candidate on both tests — a lower
     ΔBIC and a larger held-out gain — or None. The data then prefer an explanation whose size
     they cannot pin down; naming the precise runner-up instead would name the wrong physics
     (dev EHA, isothermal air: air ΔBIC −15 879 and gain 0.88 %, its amount ±56 % against a free
     bulk modulus; a hose passed at −1027 and 0.53 % and was named). With no passing candidate
-    an imprecise one that passes BIC and the held-out band is named likewise."""
+    an imprecise one that passes BIC and the held-out band is named likewise — unless
+    ``alone`` is False (a candidate whose value ended at its bound, ``accept.judge``'s
+    "bounded": preferred to a passing one it beats, never named on its own)."""
+    if not passing and not alone:
+        return None
     gain = {c.key: rows[c.key]["validation_gain"] for _, c, _ in imprecise + passing}
     for d, c, f in sorted(imprecise, key=lambda x: x[0]):
         if all(d < d2 and gain[c.key] > gain[c2.key] for d2, c2, _ in passing):

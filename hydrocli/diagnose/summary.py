@@ -97,6 +97,10 @@ def console_summary(diag) -> str:
             if a.get("size_poorly_determined"):
                 lines.append(f"  Its size is poorly determined ({'; '.join(a['size_poorly_determined'])}): these "
                              "data show the effect is there, not how large it is.")
+            if a.get("ended_at_bound"):
+                lines.append(f"  It fits best with a value at the end of its plausible range "
+                             f"({'; '.join(a['ended_at_bound'])}): the effect is there, its lumped form renders "
+                             "it only approximately; no candidate within its range did as well.")
             for alt in a.get("alternatives", []):
                 lines.append(f"  Nearly as good: {alt['effect'].replace('_', ' ')} on '{alt['component']}' "
                              f"(ΔBIC {alt['delta_bic']:+.0f}); these data barely tell the two apart.")

@@ -98,6 +98,26 @@ def test_an_imprecise_candidate_is_preferred_only_when_it_beats_every_precise_on
     assert _dominant([], [(-1027, hose, {})], rows) is None
 
 
+def test_a_candidate_failing_only_at_a_bound_is_preferred_to_a_passing_one_it_beats_never_named_alone():
+    """Held-out seed 64's lift: hoses on both ports, the B one at its 20 m bound, ΔBIC −2271 and
+    held-out gain 0.21 %; a rod–load link passed at −1041 / 0.15 % and was named. A value at its
+    bound fails the candidate on its own ("bounded"), but beating every passing candidate on
+    both tests it is preferred, as an imprecise one is; with nothing passing it is not named."""
+    from types import SimpleNamespace
+    from hydrocli.diagnose.ranking import dominant as _dominant
+    at_bound = accept.judge(_cand(), _fit(5000.0, 50.0, 0.2), 1.0, 500, 10.0, 2.0, 0.2)
+    assert not at_bound["passed"] and at_bound["bounded"] and not at_bound["imprecise"]
+    no_gain = accept.judge(_cand(), _fit(5000.0, 50.0, 0.2), 1.0, 500, 10.0, 9.9, 0.2)
+    assert not no_gain["bounded"]                                    # a bound AND another reason
+    assert not accept.judge(_cand(), _fit(1200.0, 50.0, 0.2), 1.0, 500, 10.0, 2.0, 0.2)["bounded"]
+    line, link = SimpleNamespace(key="line"), SimpleNamespace(key="link")
+    rows = {"line": {"validation_gain": 0.21}, "link": {"validation_gain": 0.15}}
+    assert _dominant([(-2271, line, {})], [(-1041, link, {})], rows, alone=False)[1] is line
+    assert _dominant([(-2271, line, {})], [], rows, alone=False) is None            # nothing passes: not named
+    rows["line"]["validation_gain"] = 0.14
+    assert _dominant([(-2271, line, {})], [(-1041, link, {})], rows, alone=False) is None   # link predicts better
+
+
 def test_a_companion_ending_on_its_laws_limit_has_found_that_law():
     """The supply restriction's law q = Kv·Δp/(Δp² + Δp_lam²)^¼ (orifice.py) is, at Δp_lam's upper
     bound, the laminar law Kv·Δp/√Δp_lam over every drop up to a tenth of it (50 bar), and at

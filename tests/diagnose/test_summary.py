@@ -31,6 +31,14 @@ def test_summary_says_when_an_effects_size_is_poorly_determined():
     assert "poorly determined" not in console_summary(_diag([]))
 
 
+def test_summary_says_when_an_effect_fits_best_at_the_end_of_its_range():
+    d = _diag([])
+    d.data["accepted"][0]["ended_at_bound"] = ["valve_line_B.l ended at a bound (20)"]
+    text = console_summary(d)
+    assert "a value at the end of its plausible range (valve_line_B.l ended at a bound (20))" in text
+    assert "end of its plausible range" not in console_summary(_diag([]))
+
+
 def test_summary_says_which_earlier_effect_a_later_one_made_redundant():
     d = _diag([])
     d.data["withdrawn"] = [{"effect": "structural_flexibility", "component": "vane", "delta_bic": 10478.0,
