@@ -252,9 +252,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                                       accepted, located, ceiling)
         out.rows.append(judged[c.key])
     lead = ranking.dominant(imprecise, passing, judged)
-    at_bound = lead is None and ranking.dominant(bounded, passing, judged, alone=False) is not None
-    if at_bound:
-        lead = ranking.dominant(bounded, passing, judged, alone=False)
+    bound_lead = None if lead is not None else ranking.dominant(bounded, passing, judged, alone=False)
+    at_bound, lead = bound_lead is not None, lead or bound_lead
     if lead is not None:
         row = judged[lead[1].key]
         row.update(passed=True, notes=row.pop("reasons"), reasons=[], **({"at_bound": True} if at_bound else {}))
