@@ -251,12 +251,11 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
             judged[c.key], _ = _judge(c, scores[c.key], None, round_, stage.cost, v_base, n_eff, su.noise_total,
                                       accepted, located, ceiling)
         out.rows.append(judged[c.key])
-    lead = ranking.dominant(imprecise, passing, judged)
-    bound_lead = None if lead is not None else ranking.dominant(bounded, passing, judged, alone=False)
-    at_bound, lead = bound_lead is not None, lead or bound_lead
+    lead = ranking.dominant(imprecise, passing, judged) or ranking.dominant(bounded, passing, judged, alone=False)
     if lead is not None:
         row = judged[lead[1].key]
-        row.update(passed=True, notes=row.pop("reasons"), reasons=[], **({"at_bound": True} if at_bound else {}))
+        at_bound = row["bounded"]
+        row.update(passed=True, notes=row.pop("reasons"), reasons=[])
         log(progress, f"  {lead[1].effect} beats every {'passing' if at_bound else 'precise'} candidate on ΔBIC and "
                       f"held-out gain; {'a value ended at its bound' if at_bound else 'its size is poorly determined'} "
                       f"({'; '.join(row['notes'])})")
@@ -292,7 +291,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                     "delta_bic": row["delta_bic"], "esr_train_before": before.esr_train,
                     "esr_train_after": new.esr_train, "esr_validation_before": before.esr_validation,
                     "esr_validation_after": new.esr_validation, "alternatives": alternatives,
-                    **({("ended_at_bound" if row.get("at_bound") else "size_poorly_determined"): row["notes"]}
+                    **({("ended_at_bound" if row.get("bounded") else "size_poorly_determined"): row["notes"]}
                        if row.get("notes") else {})}
     out.stage, out.candidate = new, c
     log(progress, f"  accepted {c.effect} on '{c.component}': validation ESR {fmt_esr(before.esr_validation)} "
