@@ -262,12 +262,21 @@ class CompiledModel:
                 )
         except AttributeError:  # pragma: no cover - older library
             pass
+        # the library's dense-LU limit (HY_DENSE_MAX): above it the LU is sparse, its factors
+        # live in the integrator's workspace, and a sensitivity run cannot be pipelined
+        self.dense_max = int(info[6])
         self._lib = lib
         self._fn = fn
         self._fn_sens = getattr(lib, "hy_simulate_sens", None)
         if self._fn_sens is not None:
             self._fn_sens.argtypes = _ARGTYPES + [ctypes.c_int, _dp, _dp, _dp, _dp, ctypes.c_int]
             self._fn_sens.restype = ctypes.c_int
+
+    @property
+    def pipelinable(self) -> bool:
+        """Whether a sensitivity run can put its columns in a second thread
+        (``csrc/hy_sens_pipe.h``): the model's states fit the dense LU (``HY_DENSE_MAX``)."""
+        return self.nx <= self.dense_max
 
     @property
     def has_sensitivities(self) -> bool:

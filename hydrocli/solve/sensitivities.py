@@ -88,11 +88,6 @@ def columns(model: Model, wrt: list[str], dx0_dp: np.ndarray | None = None) -> t
 MIN_COLUMNS_PER_THREAD = 4
 
 
-#: csrc/hy_integrator.c's HY_DENSE_MAX: above this many states the LU is sparse, its factors live
-#: in the integrator's workspace, and a run cannot be pipelined (csrc/hy_sens_pipe.h)
-PIPELINE_MAX_STATES = 24
-
-
 def column_split(n: int, runs: int) -> list[slice]:
     """Contiguous column ranges for ``runs`` parallel sensitivity runs of ``n`` columns
     (fewer runs when a run would get under :data:`MIN_COLUMNS_PER_THREAD` columns)."""
@@ -113,7 +108,8 @@ def output_sensitivities(model: Model, inputs: InputTable, t_out: np.ndarray, p:
     states and the per-step Jacobians in one, the columns a few steps behind in the other:
     ``csrc/hy_sens_pipe.h``; EHA 30 s, 15 columns: 170 → 95 ms), and with ``threads`` ≥ 4
     the columns are split between ``threads // 2`` such runs (each integrates the states
-    again). A model above :data:`PIPELINE_MAX_STATES` states (sparse LU) cannot be pipelined:
+    again). A model above the library's dense-LU limit (``CompiledModel.pipelinable``,
+    ``HY_DENSE_MAX`` read from the compiled library: a sparse LU) cannot be pipelined:
     its columns are split between ``threads`` runs. The columns are bitwise those of one
     sequential run either way: the state steps do not depend on the columns. Raises SolverError (exit 4) like
     :func:`~hydrocli.solve.simulate.simulate`."""
@@ -129,7 +125,7 @@ def output_sensitivities(model: Model, inputs: InputTable, t_out: np.ndarray, p:
 
     hold, atol = _hold_flags(model), atol_vector(model, opts)
 
-    pipelined = int(threads) >= 2 and len(model.state_names) <= PIPELINE_MAX_STATES
+    pipelined = int(threads) >= 2 and lib.pipelinable
 
     def run(cols: slice):
         return lib.simulate_sens(p, inputs.t, inputs.U, hold, float(t_out[0]), x0, t_out, col_p[cols], S0[:, cols],

@@ -211,6 +211,8 @@ def test_sparse_factorisation_sensitivities_match_central_differences(tmp_path):
     assert np.array_equal(two.dY, one.dY) and two.stats["sensitivity_evals"] == 2 * one.stats["sensitivity_evals"]
     from hydrocli.solve.sensitivities import columns, sensitivity_library
     from hydrocli.solve.simulate import _hold_flags, atol_vector
+    lib = sensitivity_library(m)              # the limit is the compiled library's HY_DENSE_MAX
+    assert lib.dense_max == 24 and not lib.pipelinable
     col_p, S0 = columns(m, wrt)
     piped = sensitivity_library(m).simulate_sens(m.p0, inputs.t, inputs.U, _hold_flags(m), 0.0, m.x0, t, col_p, S0,
                                                  rtol=opts.rtol, atol=atol_vector(m, opts), pipelined=True)

@@ -500,7 +500,7 @@ static double hy_rms(const double *v, const double *sk, int n)
 int hy_model_info(int *out)
 {
     out[0] = HY_NX; out[1] = HY_NP; out[2] = HY_NU; out[3] = HY_NY; out[4] = HY_NNZ;
-    out[5] = HY_ABI_VERSION;
+    out[5] = HY_ABI_VERSION; out[6] = HY_DENSE_MAX;
     return 0;
 }
 
