@@ -51,7 +51,7 @@ def plan(job: dict) -> dict:
         obj = residuals.objective(model, job["train"])
         t0 = time.perf_counter()
         starts = _fit_starts(obj, p, model, job.get("starts") or [{}], drawn, job.get("each_base", False),
-                             job.get("basins") or {}, job.get("transfers") or [])
+                             job.get("basins") or {}, job.get("transfers") or [], job.get("stops") or [])
         sim_s = (time.perf_counter() - t0) / max(obj.n_evals, 1)
         g = job.get("gradient", "auto")
         return {"key": job["key"], "error": None, "starts": starts, "n_free": len(model.free_params),

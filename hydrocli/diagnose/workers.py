@@ -146,12 +146,13 @@ def _one_end_probes(params) -> list[dict]:
     reached at the top of a lift, the bottom merely a turning point — and a start that
     puts stops at both recorded ends then costs more than one far past both, where the fit
     stays: the stop the data press is never met (concealed end-stop bench: x_max started
-    5 mm beyond the head stop ended there, cost 0.127 against 0.077 from the head alone)."""
+    5 mm beyond the head stop ended there, cost 0.127 against 0.077 from the head alone).
+    Each is also offered at the companions' typical shapes (a soft bumper's stiffness)."""
     ends = [p for p in params if p.seen]
     if len(ends) < 2:
         return []
-    return [{p.name: (p.start if (p.seen and p is not end) else p.probe) for p in params}
-            for end in ends]
+    return [{**{p.name: (p.start if (p.seen and p is not end) else p.probe) for p in params}, **shape}
+            for end in ends for shape in _shapes(params)]
 
 
 def _inner(bounds, margin=0.02):
@@ -205,7 +206,7 @@ def parameter_rows(params, estimates: dict[str, float], stderr: dict[str, float]
 
 def _fit_starts(obj, p: np.ndarray, model, starts: list[dict], drawn: np.ndarray | None = None,
                 each_base: bool = False, basins: dict[str, tuple[float, ...]] | None = None,
-                transfers: list[dict] | None = None) -> list[np.ndarray]:
+                transfers: list[dict] | None = None, stops: list[dict] | None = None) -> list[np.ndarray]:
     """Where a candidate's fit starts: the start of lowest cost, and — when that is the effect
     switched off (``starts[0]``, as :func:`screen_one` lists them) — also the best start with
     the effect present. Base parameters re-identified without the effect may already mimic
@@ -239,6 +240,13 @@ def _fit_starts(obj, p: np.ndarray, model, starts: list[dict], drawn: np.ndarray
     −14 900) — measured, by the mild shape's best start: with the strong shape's alone (a
     stiff spring, k 2·10⁶ N/m, the cheapest of that shape) the answer stays ``none``.
 
+    ``stops``: the candidate's stop positions ({name, start}, :func:`stage.stops_of`): each
+    end pressed alone (the other at its start, out of reach) is a basin of its own at each
+    shape, and the best start of each is fitted. A machine pressing one end only, started with
+    a soft bumper at the wrong end, never meets the one it presses: held-out seed 64's vane
+    bumper (3000 N·m/rad at 0.50 rad) ended on a stiff stop at 0.517 rad, 2.6·10¹⁰ N·m/rad,
+    while from the soft start at the upper end it is found (3068 N·m/rad at 0.4999 rad).
+
     ``transfers``: the current base re-expressed in the candidate's law
     (:func:`_transfer_starts`), fitted whatever they cost: a shared leak the base found, put on
     each seal, costs what the base costs, and a cheaper start that adds a little leak on top of
@@ -265,9 +273,12 @@ def _fit_starts(obj, p: np.ndarray, model, starts: list[dict], drawn: np.ndarray
         if on and not any(np.array_equal(vecs[on[0]][1], q) for q in out):
             out.append(vecs[on[0]][1])
 
+    ends = [{s["name"]: s["start"] for s in stops if s is not end} for end in stops or []] or [{}]
     for name, values in (basins or {}).items():
         for v in values:
-            add_cheapest(lambda i: starts[i % n].get(name) == v)
+            for off in ends:
+                add_cheapest(lambda i: starts[i % n].get(name) == v
+                             and all(starts[i % n].get(e) == x for e, x in off.items()))
     if each_base and n > 1:
         for j in range(len(bases)):
             add_cheapest(lambda i: i // n == j)

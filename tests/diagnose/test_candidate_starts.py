@@ -151,3 +151,64 @@ def test_a_law_that_can_hold_the_bases_leak_starts_from_it():
     assert len(out) == 2
     out = _fit_starts(obj, p, model, starts, transfers=[start])
     assert len(out) == 3 and np.allclose(out[2], [0.0, 5e12, 5e12, 70.0])
+
+
+def test_a_soft_bumper_is_fitted_from_the_end_the_machine_presses():
+    """A stop's soft-bumper stiffness is a basin of its own at EACH end: the cheapest soft
+    start may press the end the machine only turns at (held-out seed 64's vane), and from there the fit
+    never meets the bumper (that fit ended at cost 0.354, the upper end's at 0.00069). Each
+    end pressed alone at the soft shape is fitted."""
+    import numpy as np
+    from types import SimpleNamespace
+    from hydrocli.diagnose.workers import _fit_starts, _one_end_probes
+
+    lo = NewParam("lo", -1.2, (-1.5, -0.78), (-1.5, -0.78), -0.82, scale=1.0, seen=(-0.8, 0.5))
+    hi = NewParam("hi", 0.7, (0.48, 1.0), (0.48, 1.0), 0.505, scale=1.0, seen=(-0.8, 0.5))
+    k = NewParam("k", 1e8, (1.5e3, 1e11), (1.5e3, 1e11), 3e8, True, primary=False, shapes=(1.5e4,), basins=True)
+    one_end = _one_end_probes([lo, hi, k])
+    # each end alone, with the stiff probe and with the bumper
+    assert one_end == [{"lo": -0.82, "hi": 0.7, "k": 3e8}, {"lo": -0.82, "hi": 0.7, "k": 1.5e4},
+                       {"lo": -1.2, "hi": 0.505, "k": 3e8}, {"lo": -1.2, "hi": 0.505, "k": 1.5e4}]
+    names = ["lo", "hi", "k"]
+    model = SimpleNamespace(param_index=names.index,
+                            param_vector=lambda over, base: np.array([over.get(n, base[i]) for i, n in enumerate(names)]))
+    # off is cheapest; the stiff upper start next; the soft LOW start is cheaper than the soft upper one
+    cost = {(-1.2, 0.7, 1e8): 0.17, (-0.82, 0.7, 3e8): 0.5, (-1.2, 0.505, 3e8): 0.3,
+            (-0.82, 0.7, 1.5e4): 0.35, (-1.2, 0.505, 1.5e4): 1.2}
+    obj = SimpleNamespace(cost=lambda q: cost[tuple(float(x) for x in q)])
+    base = np.array([-1.2, 0.7, 1e8])
+    starts = [{"lo": -1.2, "hi": 0.7, "k": 1e8}] + one_end
+    stops = [{"name": "lo", "start": -1.2}, {"name": "hi", "start": 0.7}]
+    basins = {"k": (1.5e4,)}
+    without = _fit_starts(obj, base, model, starts, basins=basins)
+    assert not any(np.allclose(q, [-1.2, 0.505, 1.5e4]) for q in without)      # the pressed end's bumper: never fitted
+    out = _fit_starts(obj, base, model, starts, basins=basins, stops=stops)
+    assert any(np.allclose(q, [-1.2, 0.505, 1.5e4]) for q in out)
+    assert any(np.allclose(q, [-0.82, 0.7, 1.5e4]) for q in out)
+
+
+def test_the_stop_candidate_damps_and_softens_in_the_actuators_own_units():
+    """The stop's fixed contact damping is C_STOP_REF·(size/REF_SIZE)² (the same pressure per
+    displaced flow), and its soft-bumper start arrests the actuator's force at 100 bar over 1 %
+    of the travel seen: seed 004's cylinder keeps 1e4 N·s/m, a 20 cm³/rad vane gets
+    0.9 N·m·s/rad, not 1e4 N·m·s/rad — 500 N·m at 0.05 rad/s, a wall."""
+    from hydrocli.diagnose.candidates import catalogue
+    from hydrocli.diagnose.candidates.base import Context
+    from hydrocli.diagnose.candidates.leakage import REF_SIZE
+    from hydrocli.netlist.loader import load_netlist
+    from pathlib import Path
+    import pytest
+    root = Path(__file__).resolve().parents[2] / "machines"
+    for file, node, size_name, span in (("rotary_drive.yaml", "arm_node", ("vane", "D_v"), 1.0),
+                                        ("eha_testbench.yaml", None, ("cylinder", "A"), 0.1)):
+        net = load_netlist(root / file)
+        if node is None:
+            node = net.components["cylinder"].ports["rod"]
+        cands, _ = catalogue(Context(net, set(), {node: (-span / 2, span / 2)}, {}, {}))
+        stop = next(c for c in cands if c.effect == "end_stop")
+        size = net.components[size_name[0]].params[size_name[1]].value
+        (c_name, c_value), = stop.fixed.items()
+        assert c_name.endswith("c_stop") and c_value == pytest.approx(1e4 * (size / REF_SIZE) ** 2)
+        k = next(p for p in stop.params if p.name.endswith("k_stop"))
+        assert k.basins and k.shapes == pytest.approx((size * 1e7 / (0.01 * span),))
+        assert k.bounds[0] < k.shapes[0] < k.start
