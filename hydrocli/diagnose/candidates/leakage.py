@@ -22,6 +22,7 @@ STOP_PRESSURE = 1e7    # Pa: the load pressure the softest stop must arrest (100
 K_STOP_FLOOR = 1e5     # N/m: the stop stiffness floor of the cylinders (a vane's is lower, in N·m/rad)
 C_STOP_REF = 1e4       # N·s/m: the stop contact damping of seed 004's cylinder (REF_SIZE); an actuator's is
                        # scaled by (size/REF_SIZE)², the same pressure per displaced flow (c/size², Pa·s/m³)
+SOFTEST_DEPTH = 0.1    # share of the travel seen over which the softest stop arrests STOP_PRESSURE
 BUMPER_DEPTH = 0.01    # share of the travel seen over which a soft stop (a rubber bumper) arrests STOP_PRESSURE
 AIR_MAX = 1.0          # free air per volume of oil at 1 bar the air candidates may reach (fluid.AIR_PARAMS'
                        # limit): half the volume at 1 bar, yet 6 % at 50 bar (isentropic) — oil foaming in a
@@ -173,18 +174,23 @@ class CylinderFamily(Family):
         # the softest "stop" the fit may reach, in the actuator's own units (N/m for a cylinder,
         # N·m/rad for a vane): one that still arrests the actuator's force at STOP_PRESSURE
         # within a tenth of the stroke seen (a rubber bumper), or 1e5 when that is lower
-        k_lo = min(K_STOP_FLOOR, ctx.size(act) * STOP_PRESSURE / (0.1 * span))
+        k_lo = min(K_STOP_FLOOR, ctx.size(act) * STOP_PRESSURE / (SOFTEST_DEPTH * span))
         # stop positions have no "off" value: judged as positions (plausible range of the value,
         # standard error against the stroke seen)
         # a stop fitted more than a tenth of the stroke beyond every recorded position is not
         # touched by a trajectory that matches the record (closer, it may be: windows clip the
         # last millimetres, the contact compresses): accept.judge does not judge its precision
         reach = (lo - 0.1 * span, hi + 0.1 * span)
-        params = [NewParam(lo_n, lo - 0.2 * span, (lo - 0.5 * span, lo + 0.02 * span),
-                           (lo - 0.5 * span, lo + 0.02 * span), lo - 0.005 * span, scale=span, reach=reach,
+        # a stop's contact may sit INSIDE the recorded end by as much as the softest stop
+        # compresses (SOFTEST_DEPTH of the travel): the recorded end is the bumper compressed
+        # (dev seed 64's EHA bumper, 2·10⁶ N/m: contact 1.4 mm, 2.4 % of the travel, inside it;
+        # found at 2.06·10⁶ N/m but cut at the old 2 % bound, and the answer was unexplained)
+        inside = SOFTEST_DEPTH * span
+        params = [NewParam(lo_n, lo - 0.2 * span, (lo - 0.5 * span, lo + inside),
+                           (lo - 0.5 * span, lo + inside), lo - 0.005 * span, scale=span, reach=reach,
                            seen=seen),
-                  NewParam(hi_n, hi + 0.2 * span, (hi - 0.02 * span, hi + 0.5 * span),
-                           (hi - 0.02 * span, hi + 0.5 * span), hi + 0.005 * span, scale=span, reach=reach,
+                  NewParam(hi_n, hi + 0.2 * span, (hi - inside, hi + 0.5 * span),
+                           (hi - inside, hi + 0.5 * span), hi + 0.005 * span, scale=span, reach=reach,
                            seen=seen),
                   # contact stiffness identified too (log scale): a real stop (Hertz/Hunt–Crossley
                   # contact, a rubber bumper) is far from one fixed linear spring. A soft bumper
