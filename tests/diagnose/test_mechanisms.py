@@ -703,7 +703,7 @@ def test_a_rotary_drive_offers_a_lag_of_its_angle_and_speed_sensor():
     net = load_netlist(ROOT / "machines" / "rotary_drive.yaml")
     model = build_model(net)
     cands, _ = catalogue(Context(net, set(), {"arm_node": (-0.5, 0.5)}, output_quantities(model), {}))
-    lag = [c for c in cands if c.effect == "sensor_lag" and c.component == "arm_node"]
+    lag = [c for c in cands if c.effect == "sensor_lag" and c.component == "arm_node" and not c.variant]
     assert len(lag) == 1
     net2 = lag[0].build(net)
     aug = build_model(net2)
@@ -713,6 +713,25 @@ def test_a_rotary_drive_offers_a_lag_of_its_angle_and_speed_sensor():
     assert net2.components[sens].type == "rotary_motion_sensor"
     assert net2.outputs["w"].expr == f"{sens}.w" and net2.outputs["theta"].expr == f"{sens}.theta"
     assert net2.outputs["P1"].expr == net.outputs["P1"].expr
+
+
+def test_a_speed_output_is_also_offered_its_own_second_order_filter():
+    """A speed read by a tachogenerator or differentiated from a position goes through its own
+    filter while the position is read directly: the speed-filter variant reads w through a
+    rotary_speed_sensor (τ and ζ free, ζ from a Butterworth 0.71) and leaves theta as it was."""
+    from hydrocli.diagnose.locate import output_quantities
+    from hydrocli.model.builder import build_model
+    net = load_netlist(ROOT / "machines" / "rotary_drive.yaml")
+    cands, _ = catalogue(Context(net, set(), {"arm_node": (-0.5, 0.5)}, output_quantities(build_model(net)), {}))
+    filt = [c for c in cands if c.effect == "sensor_lag" and c.variant == "speed_filter"]
+    assert [c.component for c in filt] == ["arm_node"]
+    net2 = filt[0].build(net)
+    tau, zeta = (p.name for p in filt[0].params)
+    sens = tau.rsplit(".", 1)[0]
+    assert net2.components[sens].type == "rotary_speed_sensor" and zeta == f"{sens}.zeta"
+    assert {tau, zeta} <= set(build_model(net2).free_params)
+    assert net2.outputs["w"].expr == f"{sens}.w" and net2.outputs["theta"].expr == net.outputs["theta"].expr
+    assert filt[0].params[1].start == 0.71 and not filt[0].params[1].primary
 
 
 # the vane pendulum above without its weight, with its chamber volumes and no cross-vane leak

@@ -1,14 +1,18 @@
-"""Sensors with a first-order lag: the measured value follows the physical one through
-1/(1 + τs). A pressure transducer's membrane and amplifier, or a position/velocity
-encoder's filter, behave so (ISO 16028-style dynamic pressure calibration; Jelali & Kroll,
-*Hydraulic Servo-systems*, §6.5, sensor dynamics). Outputs then read ``<sensor>.y``."""
+"""Sensors with a lag: the measured value follows the physical one through 1/(1 + τs). A
+pressure transducer's membrane and amplifier, or a position/velocity encoder's filter, behave
+so (ISO 16028-style dynamic pressure calibration; Jelali & Kroll, *Hydraulic Servo-systems*,
+§6.5, sensor dynamics). A speed read by a tachogenerator or differentiated from a position
+goes through its own filter, commonly second order 1/(τ²s² + 2ζτs + 1) (a Butterworth
+ζ = 0.71), while the position is read directly. Outputs then read ``<sensor>.<variable>``."""
 from __future__ import annotations
 
 from ..base import Component, H, Param, Port, R, StateSpec, T, VariableSpec
-from ..dynamics import first_order
+from ..dynamics import first_order, second_order
 from ..registry import register
 
 _TAU = Param("tau", "s", 1e-3, "sensor time constant", positive=True, bounds=(1e-5, 0.1))
+_ZETA = Param("zeta", "1", 0.71, "speed filter damping ratio (0.71 Butterworth, 1 two equal first-order lags)",
+              positive=True, bounds=(0.3, 3.0))
 
 
 @register
@@ -75,3 +79,50 @@ def _lagged_motion(c, position: tuple[str, str], speed: tuple[str, str]) -> None
         y = c.state(state)
         c.der(state, first_order(y, value, c.p.tau))
         c.let(var, y)
+
+
+@register
+class SpeedSensor(Component):
+    """Velocity sensor with a second-order filter on a translational node (a tachogenerator,
+    or a differentiated position, behind a low-pass): v_m follows v through
+    1/(τ²s² + 2ζτs + 1), the position is not read here."""
+
+    type = "speed_sensor"
+    family = "effects"
+    description = "Velocity sensor behind a second-order low-pass (measured v)"
+    source = "second-order sensor filter, Jelali & Kroll §6.5"
+    ports = (Port("a", T, "sensed node"),)
+    parameters = (_TAU, _ZETA)
+    states = (StateSpec("vm", "m/s", "measured velocity", nominal=1e-2),
+              StateSpec("am", "m/s^2", "rate of the measured velocity", nominal=1.0))
+    variables = (VariableSpec("v", "m/s", "measured velocity"),)
+
+    def equations(self, c):
+        _filtered_speed(c, "v")
+
+
+@register
+class RotarySpeedSensor(Component):
+    """Angular-velocity sensor with a second-order filter on a rotational node: ω_m follows ω
+    through 1/(τ²s² + 2ζτs + 1), the angle is not read here."""
+
+    type = "rotary_speed_sensor"
+    family = "effects"
+    description = "Angular-velocity sensor behind a second-order low-pass (measured w)"
+    source = "second-order sensor filter, Jelali & Kroll §6.5"
+    ports = (Port("a", R, "sensed node"),)
+    parameters = (_TAU, _ZETA)
+    states = (StateSpec("vm", "rad/s", "measured angular velocity", nominal=1e-2),
+              StateSpec("am", "rad/s^2", "rate of the measured angular velocity", nominal=1.0))
+    variables = (VariableSpec("w", "rad/s", "measured angular velocity"),)
+
+    def equations(self, c):
+        _filtered_speed(c, "w")
+
+
+def _filtered_speed(c, var: str) -> None:
+    """v_m'' = (v − v_m − 2ζτ·v_m')/τ² (:func:`second_order`) for the node's speed."""
+    vm, am = c.state("vm"), c.state("am")
+    c.der("vm", am)
+    c.der("am", second_order(vm, am, c.across("a"), c.p.tau, c.p.zeta))
+    c.let(var, vm)
