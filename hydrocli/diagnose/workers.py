@@ -243,7 +243,7 @@ def _fit_starts(obj, p: np.ndarray, model, starts: list[dict], drawn: np.ndarray
     ``stops``: the candidate's stop positions ({name, start}, :func:`stage.stops_of`): each
     end pressed alone (the other at its start, out of reach) is a basin of its own at each
     shape, and the best start of each is fitted. A machine pressing one end only, started with
-    a soft bumper at the wrong end, never meets the one it presses: held-out seed 64's vane
+    a soft bumper at the wrong end, never meets the one it presses: seed 64's vane
     bumper (3000 N·m/rad at 0.50 rad) ended on a stiff stop at 0.517 rad, 2.6·10¹⁰ N·m/rad,
     while from the soft start at the upper end it is found (3068 N·m/rad at 0.4999 rad).
 

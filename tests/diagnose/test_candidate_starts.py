@@ -155,7 +155,7 @@ def test_a_law_that_can_hold_the_bases_leak_starts_from_it():
 
 def test_a_soft_bumper_is_fitted_from_the_end_the_machine_presses():
     """A stop's soft-bumper stiffness is a basin of its own at EACH end: the cheapest soft
-    start may press the end the machine only turns at (held-out seed 64's vane), and from there the fit
+    start may press the end the machine only turns at (seed 64's vane), and from there the fit
     never meets the bumper (that fit ended at cost 0.354, the upper end's at 0.00069). Each
     end pressed alone at the soft shape is fitted."""
     import numpy as np

