@@ -201,7 +201,7 @@ class CylinderFamily(Family):
                   NewParam(k_n, 1e8, (k_lo, 1e11), (k_lo, 1e11), 3e8, True, primary=False,
                            shapes=(self._bumper(ctx, act, span, k_lo),), basins=True)]
         return self.parameter_candidate(ctx, "end_stop", act.name, params, "force",
-                                        "stiff end stops at the stroke ends",
+                                        "end stops at the stroke ends (steel or a rubber bumper)",
                                         fixed={c_n: self._stop_damping(ctx, act)} if c_n else None)
 
     @staticmethod
