@@ -73,10 +73,7 @@ class SensorLagFamily(Family):
                 return net
             out.append(Candidate("sensor_lag", sensors[0], params, widen, "measurement",
                                  "pressure sensors slower than a typical transducer"))
-        motion = sorted({(n, q in ROTARY) for o, q in ctx.outputs.items() if q in POSITIONS + SPEEDS
-                         for n in _nodes_of(ctx, o)})
-        speeds = sorted({(n, q in ROTARY) for o, q in ctx.outputs.items() if q in SPEEDS for n in _nodes_of(ctx, o)})
-        for node, rotary in motion:
+        for node, rotary in _sensed(ctx, POSITIONS + SPEEDS):
             sens = A.unique_name(ctx.net, f"{node}_sensor")
             tau = f"{sens}.tau"
             typ, (pos, vel) = ("rotary_motion_sensor", ("theta", "w")) if rotary else ("motion_sensor", ("x", "v"))
@@ -88,7 +85,7 @@ class SensorLagFamily(Family):
             out.append(Candidate("sensor_lag", node, [NewParam(tau, 1e-4, (1e-5, 0.1), (1e-3, 0.1), 5e-3, True)],
                                  build, "measurement", f"lag of the {'angle/speed' if rotary else 'position/velocity'} "
                                                        f"sensor on '{node}'"))
-        out += [_speed_filter(ctx, node, rotary) for node, rotary in speeds]
+        out += [_speed_filter(ctx, node, rotary) for node, rotary in _sensed(ctx, SPEEDS)]
         return out or [Skipped("sensor_lag", "no sensed output")]
 
 
@@ -114,6 +111,12 @@ def _speed_filter(ctx: Context, node: str, rotary: bool) -> Candidate:
     return Candidate("sensor_lag", node, params, build, "measurement",
                      f"{'angular ' if rotary else ''}speed sensor on '{node}' behind a second-order filter",
                      variant="speed_filter")
+
+
+def _sensed(ctx: Context, quantities: tuple[str, ...]) -> list[tuple[str, bool]]:
+    """The nodes whose motion an output of these quantities reads, each with whether it is
+    rotary, in name order."""
+    return sorted({(n, q in ROTARY) for o, q in ctx.outputs.items() if q in quantities for n in _nodes_of(ctx, o)})
 
 
 def _nodes_of(ctx: Context, output: str) -> set[str]:
