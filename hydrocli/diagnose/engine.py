@@ -31,8 +31,8 @@ from ..netlist.loader import load_netlist
 from . import (accept, augment, backward, base_findings, baseline, candidate_fits, design, findings, locate, nuisance,
                ranking, residuals, restrain, restrained, runaway, stats, travel, workers)
 from .candidates import COMPLIANCES, SWITCHING, Candidate, catalogue
-from .equations import equation_errors, measured_states
-from .measurement import sensed_states, with_pressure_sensors
+from .equations import equation_errors
+from .measurement import with_pressure_sensors
 from .ranking import ALTERNATIVE
 from .shortlist import shortlist
 from .stage import (Baseline, Diagnosis, Round, Settings, Setup, Stage, context, context_of, fit_status, fmt_esr,
@@ -42,16 +42,11 @@ CONTROL = "control: current model, same budget"
 EXTRA_WAVES = 2     # further shortlists fitted when none passes and the mismatch stays unexplained (round_step)
 
 
-def load_data(model, net, paths):
-    """Every experiment the paths name (all of a multi-experiment file, as in identify);
-    states read by a modelled sensor start from the sensor's first sample."""
-    sensed = set(sensed_states(net).values())
-    out = []
-    for e in (e for p in paths for e in load_all(p, model)):
-        start = {s: float(e.measured[o][0]) for s, o in measured_states(model, e).items()
-                 if s in sensed and o in e.measured}
-        out.append(replace(e, initial={**e.initial, **start}) if start else e)
-    return out
+def load_data(model, paths):
+    """Every experiment the paths name (all of a multi-experiment file, as in identify). A
+    modelled sensor and what it senses start from the sensor's first sample
+    (:func:`hydrocli.experiments.initial.given_state`)."""
+    return [e for p in paths for e in load_all(p, model)]
 
 
 def _inputs_start(model, exps) -> dict:
@@ -68,8 +63,8 @@ def prepare(machine, train_paths, validate_paths, settings: Settings) -> Setup:
         free0 = {f"{c}.{p}" for c, d in net.components.items() for p, v in d.params.items() if v.free}
         net, found = nuisance.with_nuisance(net, free0)
     model = build_model(net)
-    train = load_data(model, net, train_paths)
-    validate = load_data(model, net, validate_paths)
+    train = load_data(model, train_paths)
+    validate = load_data(model, validate_paths)
     outputs = [o for o in model.output_names
                if any(o in e.measured for e in train) and any(o in e.measured for e in validate)]
     if not outputs:

@@ -24,35 +24,18 @@ FC_HZ = 25.0
 
 def measured_states(model: Model, exp) -> dict[str, str]:
     """{state: output} for outputs that read a state directly (through variable aliases),
-    and for pressure-sensor states their sensed node."""
+    and for a sensor's state what it senses at rest (``Equations.rest``: a chamber under its
+    pressure transducer)."""
     out = {}
     for o in exp.measured:
         s = direct_state(model, model.equations.output_exprs.get(o))
         if s is None:
             continue
-        if s.endswith(".y") and f"{s[:-2]}.tau" in model.param_names:   # lagging sensor → sensed node
-            node = _sensed(model, s)
-            if node:
-                out[node] = o
+        sensed = direct_state(model, model.equations.rest.get(s))
+        if sensed:
+            out[sensed] = o
         out.setdefault(s, o)
     return out
-
-
-def _sensed(model: Model, sensor_state: str) -> str | None:
-    e = model.equations.derivatives.get(sensor_state)
-    for kind, name in (e.symbols() if e is not None else ()):
-        if kind == "var" and name.endswith(".p") and name in model.equations.variables:
-            return _state_of(model, name)
-        if kind == "state" and name != sensor_state:
-            return name
-    return None
-
-
-def _state_of(model: Model, var: str) -> str | None:
-    e = model.equations.variables.get(var)
-    if e is not None and e.op == "sym" and e.args[0] == "state":
-        return e.args[1]
-    return var if var in model.state_names else None
 
 
 def _lowpass(y, fs):

@@ -60,8 +60,3 @@ def with_pressure_sensors(net: Netlist) -> tuple[Netlist, dict[str, str]]:
 
 def sensor_components(net: Netlist) -> list[str]:
     return [n for n, c in net.components.items() if c.type == SENSOR_TYPE]
-
-
-def sensed_states(net: Netlist) -> dict[str, str]:
-    """{sensor state: sensed node pressure state}, to start the node from the first sample."""
-    return {f"{n}.y": f"{c.ports['P']}.p" for n, c in net.components.items() if c.type == SENSOR_TYPE}

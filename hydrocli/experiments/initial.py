@@ -1,7 +1,8 @@
 """The state an experiment starts from on a given model (the experiment itself is plain data).
 
 x0 = the model's initial state, then every state an output reads directly (through variable
-aliases) set to that output's first finite measured sample (``initial_from_data``), then the
+aliases) set to that output's first finite measured sample (``initial_from_data``), and with a
+sensor's state the quantity it reads at rest (``Equations.rest``), then the
 experiment's explicit ``initial:`` values, then the machine file's initial RULES
 (:class:`~hydrocli.model.model.InitialRule`): ``output`` (this state moved so that the output
 starts at its first measured sample: one Newton step, exact for an output affine in the
@@ -42,19 +43,39 @@ def depends_on_parameters(model: Model) -> bool:
 def given_state(model: Model, exp: Experiment) -> np.ndarray:
     """x0 before balance rules and any settle pre-roll: model defaults, measured states,
     explicit values, ``output`` and ``same_as`` rules."""
-    x0 = model.x0.copy()
+    x0, first = model.x0.copy(), {}
     if exp.initial_from_data:
         for out, values in exp.measured.items():
             state = direct_state(model, model.equations.output_exprs.get(out))
             finite = values[np.isfinite(values)] if state is not None else values[:0]
             if finite.size:
-                x0[model.state_index(state)] = finite[0]
+                first[state] = finite[0]
+        # a sensor at rest reads what it senses: a lagging transducer's state starts at its first
+        # sample and so does the quantity it senses, unless that is measured or given itself (a
+        # chamber left at the file's 35 bar under a sensor reading 57 bar rings for the whole lag)
+        for state, value in list(first.items()):
+            sensed = direct_state(model, model.equations.rest.get(state))
+            if sensed is not None and sensed not in first and sensed not in exp.initial:
+                first[sensed] = value
+        for state, value in first.items():
+            x0[model.state_index(state)] = value
     for name, v in exp.initial.items():
         x0[model.state_index(name)] = v
     for rule in model.initial_rules:
         if rule.kind == "output" and exp.initial_from_data and rule.state not in exp.initial:
             _to_output(model, exp, x0, rule)
-    return _same_as(model, x0, skip=set(exp.initial))
+    x0 = _same_as(model, x0, skip=set(exp.initial))
+    return _sensors_at_rest(model, x0, skip=set(exp.initial) | set(first))
+
+
+def _sensors_at_rest(model: Model, x0: np.ndarray, skip: set) -> np.ndarray:
+    """x0 with every sensor state not in ``skip`` reading what it senses (``Equations.rest``):
+    without a sample to start from, a transducer starts at rest on its node."""
+    for state, expr in model.equations.rest.items():
+        sensed = direct_state(model, expr)
+        if state not in skip and sensed is not None:
+            x0[model.state_index(state)] = x0[model.state_index(sensed)]
+    return x0
 
 
 def _same_as(model: Model, x0: np.ndarray, skip: set) -> np.ndarray:

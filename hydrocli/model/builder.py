@@ -59,7 +59,7 @@ def build_model(net: Netlist) -> Model:
         raise TopologyError(f"states without a derivative: {', '.join(missing)}")
     eqs = Equations(states=states, params=params, inputs=inputs, outputs=list(output_exprs),
                     variables=asm.variables, derivatives=asm.derivatives, output_exprs=output_exprs,
-                    guards=asm.guards)
+                    guards=asm.guards, rest=asm.rest)
     order_variables(eqs, [eqs.derivatives[s] for s in states] + list(output_exprs.values())
                     + [g for g, _ in asm.guards])  # refuses algebraic loops early
 

@@ -48,6 +48,7 @@ class Assembly:
     variables: dict[str, E.Expr] = field(default_factory=dict)
     variable_units: dict[str, str] = field(default_factory=dict)
     guards: list[tuple[E.Expr, str]] = field(default_factory=list)
+    rest: dict[str, E.Expr] = field(default_factory=dict)    # state → what it equals at rest (a sensor's reading)
     params: dict[str, tuple] = field(default_factory=dict)   # name → (SI value, unit)
     warnings: list[str] = field(default_factory=list)
     position_requests: set[str] = field(default_factory=set)  # node names whose position is read
@@ -165,6 +166,13 @@ class Context:
     def der(self, sname: str, value) -> None:
         self.state(sname)
         self._asm.derivatives[f"{self.name}.{sname}"] = E.as_expr(value)
+
+    def at_rest(self, sname: str, value) -> None:
+        """At rest the state equals ``value`` (a sensor's reading equals what it senses): a
+        recording that starts the state at its first sample starts the sensed quantity there too
+        (:func:`hydrocli.experiments.initial.given_state`)."""
+        self.state(sname)
+        self._asm.rest[f"{self.name}.{sname}"] = E.as_expr(value)
 
     def let(self, vname: str, value, unit: str = "") -> E.Expr:
         full = f"{self.name}.{vname}"

@@ -5,7 +5,7 @@ depends on (the Jacobian's sparsity pattern). Used by the code generators
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from ..errors import Problem, TopologyError
 from . import expr as E
@@ -23,6 +23,7 @@ class Equations:
     derivatives: dict[str, E.Expr]        # state name → d/dt
     output_exprs: dict[str, E.Expr]
     guards: list[tuple[E.Expr, str]]
+    rest: dict[str, E.Expr] = field(default_factory=dict)   # state → what it reads at rest (sensors)
 
 
 def order_variables(eqs: Equations, roots: list[E.Expr]) -> list[str]:

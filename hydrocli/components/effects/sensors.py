@@ -31,6 +31,7 @@ class PressureSensor(Component):
     def equations(self, c):
         y = c.state("y")
         c.der("y", first_order(y, c.across("P"), c.p.tau))
+        c.at_rest("y", c.across("P"))
         c.let("p", y)
 
 
@@ -78,6 +79,7 @@ def _lagged_motion(c, position: tuple[str, str], speed: tuple[str, str]) -> None
     for (state, var), value in ((position, c.position("a")), (speed, c.across("a"))):
         y = c.state(state)
         c.der(state, first_order(y, value, c.p.tau))
+        c.at_rest(state, value)
         c.let(var, y)
 
 
@@ -125,4 +127,5 @@ def _filtered_speed(c, var: str) -> None:
     vm, am = c.state("vm"), c.state("am")
     c.der("vm", am)
     c.der("am", second_order(vm, am, c.across("a"), c.p.tau, c.p.zeta))
+    c.at_rest("vm", c.across("a"))
     c.let(var, vm)
