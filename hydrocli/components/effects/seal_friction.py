@@ -3,11 +3,13 @@ rod and bore by the chamber pressures, so the friction force grows with them
 (seed 000 eq. 23; Ottestad, Nilsen & Hansen 2012, "Reducing the static friction of hydraulic
 cylinders by maintaining relative velocity"): F = A_p·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b|)·tanh(v/ε).
 μ_s models seals loaded by both chambers (rod seals, symmetric), μ_d a piston seal loaded by
-the pressure difference across it."""
+the pressure difference across it. A vane actuator's vane and hub seals are pressed the same
+way (seed 001 §2): τ = D_p·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b|)·tanh(ω/ε) on its displacement
+per radian D_p (``rotary_seal_friction``)."""
 from __future__ import annotations
 
 from ...model import expr as E
-from ..base import Component, H, Param, Port, T, VariableSpec
+from ..base import Component, H, Param, Port, R, T, VariableSpec
 from ..dynamics import tanh_sign
 from ..registry import register
 
@@ -30,9 +32,35 @@ class SealFriction(Component):
     variables = (VariableSpec("F", "N", "friction force opposing a relative to b"),)
 
     def equations(self, c):
-        p = c.p
-        pa, pb = c.across("pa"), c.across("pb")
-        load = p.mu_s * (pa + pb) + p.mu_d * E.smooth_abs(pa - pb, p.dp_eps)
-        f = c.let("F", p.A_p * load * tanh_sign(c.across("a") - c.across("b"), p.eps))
-        c.through("a", f)
-        c.through("b", -f)
+        _seal(c, c.p.A_p, "F")
+
+
+@register
+class RotarySealFriction(Component):
+    type = "rotary_seal_friction"
+    family = "effects"
+    description = "Vane/hub seal friction proportional to chamber pressures (sum and |difference|)"
+    source = "seed 000 eq. 23; seed 001 §2 (vane seals)"
+    ports = (Port("a", R, "moving side (vane shaft)"), Port("b", R, "fixed side (housing)"),
+             Port("pa", H, "chamber A (sensed)"), Port("pb", H, "chamber B (sensed)"))
+    parameters = (
+        Param("mu_s", "1", 0.0, "friction per unit of D_p·(p_a + p_b)", min=0.0, bounds=(0.0, 0.2)),
+        Param("mu_d", "1", 0.0, "friction per unit of D_p·|p_a − p_b|", min=0.0, bounds=(0.0, 1.0)),
+        Param("D_p", "m^3/rad", 1e-5, "reference displacement per radian (the vane's)", positive=True),
+        Param("eps", "rad/s", 1e-3, "tanh smoothing angular velocity", positive=True),
+        Param("dp_eps", "Pa", 1e4, "smoothing of |p_a − p_b| near zero", positive=True),
+    )
+    variables = (VariableSpec("tau", "N*m", "friction torque opposing a relative to b"),)
+
+    def equations(self, c):
+        _seal(c, c.p.D_p, "tau")
+
+
+def _seal(c, size, name: str) -> None:
+    """size·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b|)·tanh(Δv/ε) between a and b (seed 000 eq. 23)."""
+    p = c.p
+    pa, pb = c.across("pa"), c.across("pb")
+    load = p.mu_s * (pa + pb) + p.mu_d * E.smooth_abs(pa - pb, p.dp_eps)
+    f = c.let(name, size * load * tanh_sign(c.across("a") - c.across("b"), p.eps))
+    c.through("a", f)
+    c.through("b", -f)

@@ -74,8 +74,7 @@ class FrictionFamily(Family):
                 ctx, "pressure_dependent_friction", fr.name, [NewParam(mu, 1e-4, (0.0, 0.2), (2e-3, 0.2), 0.02)],
                 "force", "seal friction growing with chamber pressure, μ_p·A·(p_A + p_B)·sign(v)",
                 fixed={fr.param("pressure_size"): area}, connect=connect))
-        seal = _seal(ctx, fr.name, act, area)
-        out.append(seal)
+        out.extend(_seal(ctx, fr.name, act, area))
         return out
 
     def _new_friction(self, ctx: Context, act: Part, node: str, fmax: float):
@@ -113,7 +112,7 @@ class FrictionFamily(Family):
                                  adder(ps, {role.param("pressure_size"): area}, True), "force",
                                  f"seal friction growing with chamber pressure on '{node}'"))
         else:
-            out.append(_seal(ctx, fr, act, area))
+            out.extend(_seal(ctx, fr, act, area))
         return out
 
 
@@ -146,21 +145,31 @@ def _band(ctx: Context, fr: Part) -> list[NewParam]:
                      shapes=(0.1 * BAND_RANGE * v,))]
 
 
-def _seal(ctx: Context, owner: str, act: Part, area: float):
-    """Seal friction loaded by the pressure DIFFERENCE across the piston seal (translational
-    actuators: the ``seal_friction`` element)."""
+def _seal(ctx: Context, owner: str, act: Part, area: float) -> list:
+    """Seal friction loaded by the pressure DIFFERENCE across the piston seal (the
+    ``seal_friction`` element). A vane actuator's seals (``rotary_seal_friction``, on its
+    displacement per radian) get both laws: its friction element has no pressure term, so the
+    seals loaded by both chambers (μ_s·D·(p_A + p_B)) are offered here too."""
     rod = act.node("motion")
-    if ctx.domain(rod) is None or ctx.domain(rod).value != "translational":
-        return Skipped("pressure_dependent_friction", f"no pressure-loaded seal law for a rotary '{act.name}'")
+    dom = ctx.domain(rod)
+    if dom is None or dom.value not in ("translational", "rotational"):
+        return [Skipped("pressure_dependent_friction", f"no pressure-loaded seal law for '{act.name}'")]
+    rotary = dom.value == "rotational"
+    typ, size = ("rotary_seal_friction", "D_p") if rotary else ("seal_friction", "A_p")
     name = A.unique_name(ctx.net, f"{act.name}_seal_friction")
-    prm = NewParam(f"{name}.mu_d", 1e-4, (0.0, 1.0), (2e-3, 1.0), 0.05)
     body = act.node("reference") or "ground"
+    laws = [("mu_d", 1.0, "dp", "growing with the pressure difference, μ_d·{s}·|p_A − p_B|")]
+    if rotary:
+        laws.append(("mu_s", 0.2, "sum", "growing with the chamber pressures, μ_s·{s}·(p_A + p_B)"))
+    out = []
+    for mu, top, variant, text in laws:
+        prm = NewParam(f"{name}.{mu}", 1e-4, (0.0, top), (2e-3, top), 0.05 if mu == "mu_d" else 0.02)
 
-    def build(net):
-        net = A.add(net, name, "seal_friction", {"a": rod, "b": body, "pa": act.node("chamber_a"),
-                                                 "pb": act.node("chamber_b")}, {"A_p": area})
-        return A.free(net, prm.name, prm.start, prm.bounds)
-    return Candidate("pressure_dependent_friction", owner, [prm], build, "force",
-                     "piston-seal friction growing with the pressure difference, μ_d·A·|p_A − p_B|·sign(v)",
-                     variant="dp")
-
+        def build(net, prm=prm):
+            net = A.add(net, name, typ, {"a": rod, "b": body, "pa": act.node("chamber_a"),
+                                         "pb": act.node("chamber_b")}, {size: area})
+            return A.free(net, prm.name, prm.start, prm.bounds)
+        out.append(Candidate("pressure_dependent_friction", owner, [prm], build, "force",
+                             f"{'vane' if rotary else 'piston'}-seal friction " + text.format(s="D" if rotary else "A")
+                             + "·sign(v)", variant=variant))
+    return out
