@@ -14,21 +14,29 @@ from ..dynamics import tanh_sign
 from ..registry import register
 
 
+def _ports(domain, moving: str, fixed: str) -> tuple:
+    return (Port("a", domain, moving), Port("b", domain, fixed),
+            Port("pa", H, "chamber A (sensed)"), Port("pb", H, "chamber B (sensed)"))
+
+
+def _parameters(size: Param, speed_unit: str) -> tuple:
+    """The seal laws' coefficients per unit of ``size``·pressure, the size, the smoothing."""
+    s = size.name
+    return (Param("mu_s", "1", 0.0, f"friction per unit of {s}·(p_a + p_b)", min=0.0, bounds=(0.0, 0.2)),
+            Param("mu_d", "1", 0.0, f"friction per unit of {s}·|p_a − p_b|", min=0.0, bounds=(0.0, 1.0)),
+            size,
+            Param("eps", speed_unit, 1e-3, "tanh smoothing speed", positive=True),
+            Param("dp_eps", "Pa", 1e4, "smoothing of |p_a − p_b| near zero", positive=True))
+
+
 @register
 class SealFriction(Component):
     type = "seal_friction"
     family = "effects"
     description = "Seal friction proportional to chamber pressures (sum and |difference|)"
     source = "seed 000 eq. 23"
-    ports = (Port("a", T, "moving side (rod)"), Port("b", T, "fixed side"),
-             Port("pa", H, "chamber A (sensed)"), Port("pb", H, "chamber B (sensed)"))
-    parameters = (
-        Param("mu_s", "1", 0.0, "friction per unit of A_p·(p_a + p_b)", min=0.0, bounds=(0.0, 0.2)),
-        Param("mu_d", "1", 0.0, "friction per unit of A_p·|p_a − p_b|", min=0.0, bounds=(0.0, 1.0)),
-        Param("A_p", "m^2", 1e-3, "reference area (the piston area)", positive=True),
-        Param("eps", "m/s", 1e-3, "tanh smoothing velocity", positive=True),
-        Param("dp_eps", "Pa", 1e4, "smoothing of |p_a − p_b| near zero", positive=True),
-    )
+    ports = _ports(T, "moving side (rod)", "fixed side")
+    parameters = _parameters(Param("A_p", "m^2", 1e-3, "reference area (the piston area)", positive=True), "m/s")
     variables = (VariableSpec("F", "N", "friction force opposing a relative to b"),)
 
     def equations(self, c):
@@ -41,15 +49,9 @@ class RotarySealFriction(Component):
     family = "effects"
     description = "Vane/hub seal friction proportional to chamber pressures (sum and |difference|)"
     source = "seed 000 eq. 23; seed 001 §2 (vane seals)"
-    ports = (Port("a", R, "moving side (vane shaft)"), Port("b", R, "fixed side (housing)"),
-             Port("pa", H, "chamber A (sensed)"), Port("pb", H, "chamber B (sensed)"))
-    parameters = (
-        Param("mu_s", "1", 0.0, "friction per unit of D_p·(p_a + p_b)", min=0.0, bounds=(0.0, 0.2)),
-        Param("mu_d", "1", 0.0, "friction per unit of D_p·|p_a − p_b|", min=0.0, bounds=(0.0, 1.0)),
-        Param("D_p", "m^3/rad", 1e-5, "reference displacement per radian (the vane's)", positive=True),
-        Param("eps", "rad/s", 1e-3, "tanh smoothing angular velocity", positive=True),
-        Param("dp_eps", "Pa", 1e4, "smoothing of |p_a − p_b| near zero", positive=True),
-    )
+    ports = _ports(R, "moving side (vane shaft)", "fixed side (housing)")
+    parameters = _parameters(Param("D_p", "m^3/rad", 1e-5, "reference displacement per radian (the vane's)",
+                                   positive=True), "rad/s")
     variables = (VariableSpec("tau", "N*m", "friction torque opposing a relative to b"),)
 
     def equations(self, c):
