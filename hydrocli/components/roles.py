@@ -28,8 +28,9 @@ load               ports node; params inertia (mass or moment of inertia)
 spring             ports a, b; params stiffness
 damper             ports a, b; params damping
 friction           ports a, b, pressure_a, pressure_b; params viscous, coulomb, stribeck (one or
-                   two names: both directions of motion), pressure (seal friction per Pa·size),
-                   pressure_size, band (the speed over which Coulomb friction reverses)
+                   two names: both directions of motion), stribeck_speed (the speed over which
+                   the breakaway excess decays, one or two names), pressure (seal friction per
+                   Pa·size), pressure_size, band (the speed over which Coulomb friction reverses)
 pressure_source    ports out, reference; params pressure
 tank               ports node
 volume             ports node; params volume, air, bulk_modulus

@@ -247,3 +247,29 @@ def test_a_vane_actuator_is_offered_its_seals_pressure_loaded_friction(tmp_path,
             speed[c.variant, mu] = np.abs(tr.Y[:, aug.output_names.index("w")]).max()
     for v in ("dp", "sum"):
         assert speed[v, 0.2] < 0.97 * speed[v, 0.0]
+
+
+def test_a_breakaway_is_fitted_with_the_speed_it_decays_over(tmp_path, monkeypatch):
+    """The Stribeck candidate frees each direction's decay speed v_s (companions, log scale,
+    30× either way of the machine's value, also started 6× above it): held at the element's
+    default the breakaway is a different law. On the luffing cylinder (friction without a
+    Stribeck term) and the rotary drive (one decay speed, the element's default)."""
+    monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path))
+    root = Path(__file__).parents[2] / "machines"
+    for file, node, outputs, speeds in (
+            ("luffing_cylinder.yaml", "rod", {"P1": "pressure", "P2": "pressure", "x": "position", "v": "velocity"},
+             {"friction.vs_p": 3.41e-3, "friction.vs_m": 1.96e-3}),
+            ("rotary_drive.yaml", "arm_node", {"P1": "pressure", "P2": "pressure", "theta": "position", "w": "velocity"},
+             {"friction.w_s": 0.01})):
+        net, _ = with_pressure_sensors(load_netlist(root / file))
+        model = build_model(net)
+        ctx = Context(net, set(model.free_params), {node: (0.0, 0.3)}, outputs)
+        (c,) = [c for c in catalogue(ctx)[0] if c.effect == "stribeck_friction"]
+        decay = {p.name: p for p in c.params if not p.primary}
+        assert set(decay) == set(speeds)
+        for name, v in speeds.items():
+            p = decay[name]
+            assert p.start == pytest.approx(v) and p.log
+            assert p.bounds == pytest.approx((v / 30, 30 * v)) and p.shapes == pytest.approx((6 * v,))
+        aug = build_model(c.build(net))
+        assert set(speeds) <= set(aug.free_params)

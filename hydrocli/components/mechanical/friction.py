@@ -23,7 +23,7 @@ class Friction(Component):
     (seed 000 eq. 23: seal friction grows with chamber pressure)."""
 
     type = "friction"
-    roles = (role(RL.FRICTION, {"a": "a", "b": "b", "pressure_a": "pa", "pressure_b": "pb"}, viscous=("kv_p", "kv_m"), coulomb=("kc_p", "kc_m"), stribeck=("ks_p", "ks_m"), pressure="mu_p", pressure_size="A_p", band="eps"),)
+    roles = (role(RL.FRICTION, {"a": "a", "b": "b", "pressure_a": "pa", "pressure_b": "pb"}, viscous=("kv_p", "kv_m"), coulomb=("kc_p", "kc_m"), stribeck=("ks_p", "ks_m"), stribeck_speed=("vs_p", "vs_m"), pressure="mu_p", pressure_size="A_p", band="eps"),)
     family = "mechanical"
     description = "Asymmetric viscous/Coulomb/Stribeck friction, optional pressure dependence"
     source = "seed 004 eqs. 9–11; seed 000 eq. 23"

@@ -127,7 +127,7 @@ class RotaryFriction(Component):
     the translational ``friction``, seed 004 eqs. 9–11)."""
 
     type = "rotary_friction"
-    roles = (role(RL.FRICTION, {"a": "a", "b": "b"}, viscous="b", coulomb="tau_c", stribeck="tau_s", band="eps"),)
+    roles = (role(RL.FRICTION, {"a": "a", "b": "b"}, viscous="b", coulomb="tau_c", stribeck="tau_s", stribeck_speed="w_s", band="eps"),)
     family = "rotational"
     description = "Coulomb/viscous/Stribeck friction on a rotational node (vane seals, load bearing)"
     source = "seed 001 eqs. 14–15 (τ_coul); seed 004 eqs. 9–11"

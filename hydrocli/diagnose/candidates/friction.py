@@ -20,6 +20,7 @@ REF_SEAL_FORCE = 2e5 * 2.0994e-3   # N: that force on seed 004's bench, where th
 # band 40× the file's: Coulomb named, validation P1 left at 0.29–0.67 % against noise 0.06–0.15 %
 # (with the band free: 0.06–0.16 %).
 BAND_RANGE = 100.0
+DECAY_RANGE = 30.0   # the Stribeck speed's range either way of the machine's value (companion, log scale)
 
 _FORMS = {
     "viscous_friction": ("viscous", "viscous friction k_v·v"),
@@ -59,7 +60,7 @@ class FrictionFamily(Family):
             if not names:
                 out.append(Skipped(effect, f"'{fr.name}' ({fr.type}) has no {slot} term"))
                 continue
-            law = _law(effect, names, fmax) + (_band(ctx, fr) if effect == "coulomb_friction" else [])
+            law = _law(effect, names, fmax) + _shape(ctx, fr, effect)
             out.append(self.parameter_candidate(ctx, effect, fr.name, law, "force", desc))
         out.extend(self._pressure(ctx, fr, act, fmax))
         return out
@@ -101,9 +102,7 @@ class FrictionFamily(Family):
         for effect, (slot, desc) in _FORMS.items():
             names = [f"{fr}.{p}" for p in role.params_of(slot)]
             if names:
-                ps = _law(effect, names, fmax)
-                if effect == "coulomb_friction":
-                    ps += _band(ctx, Part(fr, typ, role, {}))
+                ps = _law(effect, names, fmax) + _shape(ctx, Part(fr, typ, role, {}), effect)
                 out.append(Candidate(effect, act.name, ps, adder(ps), "force", f"{desc} on '{node}'"))
         mu = role.param("pressure")
         if mu and role.port("pressure_a"):
@@ -125,24 +124,53 @@ def _law(effect: str, names: list[str], fmax: float) -> list[NewParam]:
     return [NewParam(n, 1.0 * s, (0.0, 20 * fmax), (0.01 * fmax, 20 * fmax), fmax) for n in names]
 
 
+def _shape(ctx: Context, fr: Part, effect: str) -> list[NewParam]:
+    """The companions that shape a friction law: the speed band over which Coulomb friction
+    reverses (:func:`_band`), the speed over which a breakaway excess decays (:func:`_decay`)."""
+    return _band(ctx, fr) if effect == "coulomb_friction" else _decay(ctx, fr) if effect == "stribeck_friction" else []
+
+
 def _band(ctx: Context, fr: Part) -> list[NewParam]:
     """The speed band over which the Coulomb force reverses, as a companion (log scale) started
     at its value in the machine (or the type's default), up to ``BAND_RANGE`` times it; none
     when the element has no band or the base model already fits it."""
     name = fr.param("band")
-    if name is None or name in ctx.free:
-        return []
-    try:
-        v = ctx.value(name)
-    except (KeyError, TypeError, ValueError):
-        spec = registry.get(fr.type).param(name.rpartition(".")[2])
-        v = spec.default if spec is not None else None
-    if not v or v <= 0:
+    v = _file_value(ctx, fr, name)
+    if v is None:
         return []
     # bounds reach below the file's value (a start strictly inside them); judged as a widening:
     # |band − file's| from once the file's value up (ended at the top: an implausibly wide band)
     return [NewParam(name, v, (0.5 * v, BAND_RANGE * v), (v, BAND_RANGE * v), v, True, primary=False, ref=v,
                      shapes=(0.1 * BAND_RANGE * v,))]
+
+
+def _decay(ctx: Context, fr: Part) -> list[NewParam]:
+    """The Stribeck speed v_s of k_s·e^(−|v|/v_s) as companions (log scale, each direction's),
+    from the machine's value (or the type's default) over ``DECAY_RANGE`` either way. How fast
+    the breakaway excess fades is a property of the seal and the oil, not of the element's
+    default; held at a default 5× too slow the excess is a different law (dev rotary with a
+    Gaussian breakaway over 0.05 rad/s: named, P1 12.2 → 10.1 % against a noise of ≈ 0.1 %;
+    dev lift over 6 mm/s: nothing passed)."""
+    out = []
+    for name in fr.params("stribeck_speed"):
+        v = _file_value(ctx, fr, name)
+        if v is not None:
+            out.append(NewParam(name, v, (v / DECAY_RANGE, DECAY_RANGE * v), (v / DECAY_RANGE, DECAY_RANGE * v), v,
+                                True, primary=False, shapes=(0.2 * DECAY_RANGE * v,)))
+    return out
+
+
+def _file_value(ctx: Context, fr: Part, name: str | None) -> float | None:
+    """A parameter's value in the machine (or its type's default) when the base does not fit
+    it already and it is positive; else None."""
+    if name is None or name in ctx.free:
+        return None
+    try:
+        v = ctx.value(name)
+    except (KeyError, TypeError, ValueError):
+        spec = registry.get(fr.type).param(name.rpartition(".")[2])
+        v = spec.default if spec is not None else None
+    return float(v) if v and v > 0 else None
 
 
 def _seal(ctx: Context, owner: str, act: Part, area: float) -> list:
