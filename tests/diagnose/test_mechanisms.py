@@ -325,7 +325,15 @@ def test_rotary_payload_candidate_is_a_new_module_found_by_the_catalogue(tmp_pat
     jp, k = (aug.components[n.split(".")[0]].params[n.split(".")[1]].value for n in (c.params[0].name, c.params[1].name))
     assert math.sqrt(k / jp) == pytest.approx(math.sqrt(9.81 / payload.L_START))
     types = {d.type for d in aug.components.values()}
-    assert {"inertia", "shaft"} <= types
+    assert {"inertia", "shaft", "rotary_damper"} <= types
+    # the swing loses energy (a damper at 5 % of critical) and is tried at three frequencies,
+    # 0.5, 1.6 and 4 Hz (rope lengths 1 m, 10 cm, 1.5 cm), each a basin of its own
+    jprobe, kp, cp = c.params[0].probe, c.params[1], c.params[2]
+    assert cp.primary is False and cp.probe == pytest.approx(2 * 0.05 * math.sqrt(kp.probe * jprobe))
+    freqs = [math.sqrt(k / jprobe) / (2 * math.pi) for k in (kp.probe, *kp.shapes)]
+    assert freqs == pytest.approx([0.498, 1.576, 4.070], rel=1e-3) and kp.basins
+    for k, c_ in zip(kp.shapes, cp.shapes):
+        assert c_ == pytest.approx(2 * 0.05 * math.sqrt(k * jprobe))
 
 
 def test_actuator_areas_are_nuisance_within_their_tolerance():
@@ -1008,3 +1016,19 @@ def test_a_bushing_nearly_free_around_zero_is_reached_by_a_start_of_the_grid():
     ratios = [deflection(s[k.name], s[h.name]) / d_true for s in strong]
     near = sorted(abs(np.log(r)) for r in ratios)
     assert near[0] < np.log(2.0) and near[1] > np.log(3.0)
+
+
+def test_both_seal_laws_are_fitted_once_pressure_dependent_friction_is_shortlisted():
+    """Seals loaded by both chambers (the pressure sum) and a piston seal loaded by the
+    pressure difference are laws of one effect: with the sum screening first, the difference
+    law is fitted too, though it screens last (dev EHA piston seal: the sum, fitted alone,
+    ended at μ ≈ 0 and a compliant mount was named; with both laws the seal was named,
+    P1 1.07 → 0.238 % against a noise of 0.22 %)."""
+    from hydrocli.diagnose.candidates import LAWS
+    from hydrocli.diagnose.shortlist import shortlist
+    assert "pressure_dependent_friction" in LAWS
+    order, scores = _screened(
+        ("sum", "force", "pressure_dependent_friction", 0.382), ("orifice", "continuity", "internal_leakage", 0.067),
+        ("mount", "force", "structural_flexibility", 0.028), ("link", "force", "load_compliance", 0.018),
+        ("dp", "force", "pressure_dependent_friction", 0.002))
+    assert [c.key for c in shortlist(order, scores, 3)] == ["sum", "orifice", "mount", "dp", "link"]

@@ -37,6 +37,10 @@ class FrictionFamily(Family):
     # is one for v_s above the speeds recorded: each is Coulomb friction with one more
     # dependence, which only data that vary that pressure or speed can show
     reduces_to = (("pressure_dependent_friction", "coulomb_friction"), ("stribeck_friction", "coulomb_friction"))
+    # seals loaded by both chambers (the sum) and a piston seal loaded by the difference are two
+    # laws of one effect; which one, like which effect, is for the fits (dev EHA piston seal:
+    # the sum screened 38 % and was fitted alone, to μ ≈ 0; the difference law was never fitted)
+    laws = frozenset({"pressure_dependent_friction"})
 
     def candidates(self, ctx: Context):
         out = []
