@@ -153,8 +153,9 @@ def _decay(ctx: Context, fr: Part) -> list[NewParam]:
     from the machine's value (or the type's default) over ``DECAY_RANGE`` either way. How fast
     the breakaway excess fades is a property of the seal and the oil, not of the element's
     default; held at a default 5× too slow the excess is a different law (dev rotary with a
-    Gaussian breakaway over 0.05 rad/s: named, P1 12.2 → 10.1 % against a noise of ≈ 0.1 %;
-    dev lift over 6 mm/s: nothing passed)."""
+    Gaussian breakaway over 0.05 rad/s: named, held-out P1 12.2 → 10.1 % with v_s held, → 8.78 %
+    with it fitted, against a noise of 0.05 %: that case's stick–slip cycles are out of any
+    output-error fit's reach, docs/diagnose.md § Session 37)."""
     out = []
     for name in fr.params("stribeck_speed"):
         v = _file_value(ctx, fr, name)
