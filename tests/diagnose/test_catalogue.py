@@ -273,3 +273,28 @@ def test_a_breakaway_is_fitted_with_the_speed_it_decays_over(tmp_path, monkeypat
             assert p.bounds == pytest.approx((v / 30, 30 * v)) and p.shapes == pytest.approx((6 * v,))
         aug = build_model(c.build(net))
         assert set(speeds) <= set(aug.free_params)
+
+
+def test_a_single_rod_cylinder_is_offered_its_rod_seal_loaded_by_the_rod_side(tmp_path, monkeypatch):
+    """A rod seal is pressed by the rod-side pressure alone (its other side is the atmosphere):
+    the luffing cylinder (two areas) is offered that law beside the piston seal's pressure
+    difference and the friction element's pressure sum, on the piston area; the EHA's one-area
+    cylinder is not (its law: ``test_seal_friction.py``)."""
+    monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path))
+    root = Path(__file__).parents[2] / "machines"
+    found = {}
+    for file in ("luffing_cylinder.yaml", "eha_testbench.yaml"):
+        net, _ = with_pressure_sensors(load_netlist(root / file))
+        model = build_model(net)
+        ctx = Context(net, set(model.free_params), {"rod": (0.0, 0.3)},
+                      {"P1": "pressure", "P2": "pressure", "x": "position", "v": "velocity"})
+        found[file] = {c.variant: c for c in catalogue(ctx)[0] if c.effect == "pressure_dependent_friction"}
+    assert set(found["luffing_cylinder.yaml"]) == {"", "dp", "rod"}
+    assert set(found["eha_testbench.yaml"]) == {"", "dp"}
+    net, _ = with_pressure_sensors(load_netlist(root / "luffing_cylinder.yaml"))
+    rod = found["luffing_cylinder.yaml"]["rod"]
+    aug = build_model(rod.build(net))
+    (p,) = rod.params
+    assert p.name.endswith(".mu_b") and p.name in aug.free_params
+    area = aug.p0[aug.param_index(p.name.rsplit(".", 1)[0] + ".A_p")]
+    assert area == pytest.approx(5.0265e-3, rel=1e-3)
