@@ -1,11 +1,13 @@
 """Pressure-dependent seal friction as a separate element: the seals are pressed against the
 rod and bore by the chamber pressures, so the friction force grows with them
 (seed 000 eq. 23; Ottestad, Nilsen & Hansen 2012, "Reducing the static friction of hydraulic
-cylinders by maintaining relative velocity"): F = A_p·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b| + μ_b·p_b)·tanh(v/ε).
+cylinders by maintaining relative velocity"):
+F = A_p·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b| + μ_b·p_b)·tanh(v/ε).
 μ_s models seals loaded by both chambers (symmetric), μ_d a piston seal loaded by the pressure
-difference across it, μ_b a single-rod cylinder's rod seal, loaded by the rod side alone. A vane actuator's vane and hub seals are pressed the same
-way (seed 001 §2): τ = D_p·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b|)·tanh(ω/ε) on its displacement
-per radian D_p (``rotary_seal_friction``)."""
+difference across it, μ_b a single-rod cylinder's rod seal, loaded by the rod side alone. A
+vane actuator's vane and hub seals are pressed the same way (seed 001 §2):
+τ = D_p·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b|)·tanh(ω/ε) on its displacement per radian D_p
+(``rotary_seal_friction``)."""
 from __future__ import annotations
 
 from ...model import expr as E
