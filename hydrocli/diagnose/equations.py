@@ -15,7 +15,7 @@ import numpy as np
 from scipy import signal
 
 from ..model.model import Model
-from ..experiments.initial import direct_state, initial_state
+from ..experiments.initial import direct_state, initial_state, sensed_state
 from ..solve.simulate import simulate
 from .residuals import OPTS
 
@@ -31,7 +31,7 @@ def measured_states(model: Model, exp) -> dict[str, str]:
         s = direct_state(model, model.equations.output_exprs.get(o))
         if s is None:
             continue
-        sensed = direct_state(model, model.equations.rest.get(s))
+        sensed = sensed_state(model, s)
         if sensed:
             out[sensed] = o
         out.setdefault(s, o)

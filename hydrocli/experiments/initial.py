@@ -54,7 +54,7 @@ def given_state(model: Model, exp: Experiment) -> np.ndarray:
         # sample and so does the quantity it senses, unless that is measured or given itself (a
         # chamber left at the file's 35 bar under a sensor reading 57 bar rings for the whole lag)
         for state, value in list(first.items()):
-            sensed = direct_state(model, model.equations.rest.get(state))
+            sensed = sensed_state(model, state)
             if sensed is not None and sensed not in first and sensed not in exp.initial:
                 first[sensed] = value
         for state, value in first.items():
@@ -71,11 +71,17 @@ def given_state(model: Model, exp: Experiment) -> np.ndarray:
 def _sensors_at_rest(model: Model, x0: np.ndarray, skip: set) -> np.ndarray:
     """x0 with every sensor state not in ``skip`` reading what it senses (``Equations.rest``):
     without a sample to start from, a transducer starts at rest on its node."""
-    for state, expr in model.equations.rest.items():
-        sensed = direct_state(model, expr)
+    for state in model.equations.rest:
+        sensed = sensed_state(model, state)
         if state not in skip and sensed is not None:
             x0[model.state_index(state)] = x0[model.state_index(sensed)]
     return x0
+
+
+def sensed_state(model: Model, state: str) -> str | None:
+    """The state a sensor's ``state`` reads at rest (``Equations.rest``, through variable
+    aliases): the chamber pressure under a transducer, the rod under an encoder; else None."""
+    return direct_state(model, model.equations.rest.get(state))
 
 
 def _same_as(model: Model, x0: np.ndarray, skip: set) -> np.ndarray:
