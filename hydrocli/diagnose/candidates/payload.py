@@ -56,25 +56,24 @@ def _payload(ctx: Context, act: Part, node: str, load: Part) -> Candidate:
     pj, rope, loss = (A.unique_name(ctx.net, n) for n in ("payload_inertia", "payload_rope", "payload_damper"))
     jp, kp, cp = f"{pj}.{lrole.param('inertia')}", f"{rope}.{srole.param('stiffness')}", f"{loss}.{drole.param('damping')}"
     j0 = 1e-3 * J
-    k_probe = 0.3 * J * G / L_START
+    k0, k_probe = j0 * G / L_START, 0.3 * J * G / L_START
+    k_shapes = tuple(0.3 * J * G / L for L in L_SHAPES)
 
     def critical(k: float, j: float) -> float:
         return 2.0 * ZETA * (k * j) ** 0.5
+    c0 = critical(k0, j0)
     params = [NewParam(jp, j0, (1e-4 * J, 2.0 * J), (0.02 * J, 2.0 * J), 0.3 * J, True),
               # k/J_p = g/L: rope lengths 5 mm … 50 m (log scale); a companion (shapes the swing)
-              NewParam(kp, j0 * G / L_START, (1e-4 * J * G / 50.0, 2.0 * J * G / 0.005),
+              NewParam(kp, k0, (1e-4 * J * G / 50.0, 2.0 * J * G / 0.005),
                        (1e-4 * J * G / 50.0, 2.0 * J * G / 0.005), k_probe, True, primary=False,
-                       shapes=tuple(0.3 * J * G / L for L in L_SHAPES), basins=True),
-              NewParam(cp, critical(j0 * G / L_START, j0), (1e-6 * J, 1e3 * J), (1e-6 * J, 1e3 * J),
-                       critical(k_probe, 0.3 * J), True, primary=False,
-                       shapes=tuple(critical(0.3 * J * G / L, 0.3 * J) for L in L_SHAPES))]
+                       shapes=k_shapes, basins=True),
+              NewParam(cp, c0, (1e-6 * J, 1e3 * J), (1e-6 * J, 1e3 * J), critical(k_probe, 0.3 * J), True,
+                       primary=False, shapes=tuple(critical(k, 0.3 * J) for k in k_shapes))]
 
     def build(net):
         net = A.add(net, pj, ltype, {lrole.port("node"): swing}, {lrole.param("inertia"): j0})
-        net = A.add(net, rope, stype, {srole.port("a"): node, srole.port("b"): swing},
-                    {srole.param("stiffness"): j0 * G / L_START})
-        net = A.add(net, loss, dtype, {drole.port("a"): node, drole.port("b"): swing},
-                    {drole.param("damping"): critical(j0 * G / L_START, j0)})
+        net = A.add(net, rope, stype, {srole.port("a"): node, srole.port("b"): swing}, {srole.param("stiffness"): k0})
+        net = A.add(net, loss, dtype, {drole.port("a"): node, drole.port("b"): swing}, {drole.param("damping"): c0})
         return A.free_new(net, params)
     return Candidate("payload_swing", act.name, params, build, "force",
                      f"a payload swinging on a rope (or a flexible tip) from the arm of '{act.name}' "
