@@ -184,7 +184,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     before = floor if floor is not None and residuals.total(floor.esr_validation) < residuals.total(
         stage.esr_validation) else stage
     remaining = [c for c in order if scores[c.key]["error"] is None]
-    fits, base_ref, grad, passing, judged, imprecise, bounded = {}, {}, {}, [], {}, [], []
+    fits, base_ref, grad, passing, judged, imprecise, bounded, small = {}, {}, {}, [], {}, [], [], []
     for wave in range(1 + EXTRA_WAVES):
         best = shortlist(remaining, scores, n_fit, readings)
         if not best:
@@ -230,6 +230,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                 imprecise.append((row["delta_bic"], c, fits[c.key]))
             elif row.get("bounded"):
                 bounded.append((row["delta_bic"], c, fits[c.key]))
+            elif row.get("small"):
+                small.append((row["delta_bic"], c, fits[c.key]))
         # the screening is a linearisation at one probe: when none of its picks passes and the
         # held-out error is still far above the noise (the verdict would be an unexplained
         # mismatch), the next effects in its order are fitted before saying so (real Festo rig,
@@ -246,14 +248,15 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
             judged[c.key], _ = _judge(c, scores[c.key], None, round_, stage.cost, v_base, n_eff, su.noise_total,
                                       accepted, located, ceiling)
         out.rows.append(judged[c.key])
-    lead = ranking.dominant(imprecise, passing, judged) or ranking.dominant(bounded, passing, judged, alone=False)
+    lead = (ranking.dominant(imprecise, passing, judged) or ranking.dominant(bounded, passing, judged, alone=False)
+            or ranking.dominant(small, passing, judged, alone=False))
     if lead is not None:
         row = judged[lead[1].key]
-        at_bound = row["bounded"]
+        why = ("a value ended at its bound" if row["bounded"] else "its size is below the floor worth naming"
+               if row["small"] else "its size is poorly determined")
         row.update(passed=True, notes=row.pop("reasons"), reasons=[])
-        log(progress, f"  {lead[1].effect} beats every {'passing' if at_bound else 'precise'} candidate on ΔBIC and "
-                      f"held-out gain; {'a value ended at its bound' if at_bound else 'its size is poorly determined'} "
-                      f"({'; '.join(row['notes'])})")
+        log(progress, f"  {lead[1].effect} beats every {'precise' if row['imprecise'] else 'passing'} candidate on "
+                      f"ΔBIC and held-out gain; {why} ({'; '.join(row['notes'])})")
     out.rows.sort(key=lambda d: (not d.get("passed", False), not d.get("fitted", False), -d["score"]))
     if not passing and lead is None:
         log(progress, "  no candidate passes BIC + validation + plausibility")
@@ -286,8 +289,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                     "delta_bic": row["delta_bic"], "esr_train_before": before.esr_train,
                     "esr_train_after": new.esr_train, "esr_validation_before": before.esr_validation,
                     "esr_validation_after": new.esr_validation, "alternatives": alternatives,
-                    **({("ended_at_bound" if row.get("bounded") else "size_poorly_determined"): row["notes"]}
-                       if row.get("notes") else {})}
+                    **({("ended_at_bound" if row.get("bounded") else "below_naming_floor" if row.get("small")
+                         else "size_poorly_determined"): row["notes"]} if row.get("notes") else {})}
     out.stage, out.candidate = new, c
     log(progress, f"  accepted {c.effect} on '{c.component}': validation ESR {fmt_esr(before.esr_validation)} "
                   f"→ {fmt_esr(new.esr_validation)}")

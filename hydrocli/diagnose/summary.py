@@ -101,6 +101,9 @@ def console_summary(diag) -> str:
                 lines.append(f"  It fits best with a value at the end of its plausible range "
                              f"({'; '.join(a['ended_at_bound'])}): the effect is there, its lumped form renders "
                              "it only approximately; no candidate within its range did as well.")
+            if a.get("below_naming_floor"):
+                lines.append(f"  Its size is below what is usually worth naming ({'; '.join(a['below_naming_floor'])}), "
+                             "but it explains these data better than every effect of a nameable size.")
             for alt in a.get("alternatives", []):
                 lines.append(f"  Nearly as good: {alt['effect'].replace('_', ' ')} on '{alt['component']}' "
                              f"(ΔBIC {alt['delta_bic']:+.0f}); these data barely tell the two apart.")

@@ -148,3 +148,24 @@ def test_a_companion_ending_on_its_laws_limit_has_found_that_law():
     assert laminar["passed"], laminar["reasons"]
     pushed = accept.judge(cand(False), fit, 1.0, 500, 10.0, 2.0, 0.2)
     assert not pushed["passed"] and any("dp_lam ended at a bound" in r for r in pushed["reasons"])
+
+
+def test_a_resolved_candidate_below_its_naming_floor_is_preferred_to_a_passing_one_it_beats_never_named_alone():
+    """Seed 73's EHA, four unmatched edges: the edge gains fitted 1.5–6.9 % off matched (below the
+    8 % floor worth naming), ΔBIC −32 080 and held-out gain 4.15 %; a spool overlap passed at
+    −17 407 / 1.98 % and was accepted. The floors keep a fit parked near "off" from mopping up
+    another effect's residual; one that beats every passing candidate on both tests mops up
+    nothing a nameable effect explains better."""
+    from types import SimpleNamespace
+    from hydrocli.diagnose.ranking import dominant as _dominant
+    small = accept.judge(_cand(), _fit(6.0, 0.5, 0.2), 1.0, 500, 10.0, 2.0, 0.2)
+    assert not small["passed"] and small["small"] and not small["bounded"] and not small["imprecise"]
+    assert any("plausible range" in r for r in small["reasons"])
+    assert not accept.judge(_cand(), _fit(6.0, 5.0, 0.2), 1.0, 500, 10.0, 2.0, 0.2)["small"]   # not resolved
+    assert not accept.judge(_cand(), _fit(6.0, 0.5, 0.2), 1.0, 500, 10.0, 9.9, 0.2)["small"]   # and no gain
+    assert not accept.judge(_cand(), _fit(1200.0, 50.0, 0.2), 1.0, 500, 10.0, 2.0, 0.2)["small"]  # passes
+    edges, lap = SimpleNamespace(key="edges"), SimpleNamespace(key="lap")
+    rows = {"edges": {"validation_gain": 4.15}, "lap": {"validation_gain": 1.98}}
+    assert _dominant([(-32080, edges, {})], [(-17407, lap, {})], rows, alone=False)[1] is edges
+    assert _dominant([(-32080, edges, {})], [], rows, alone=False) is None          # nothing passes: not named
+    assert _dominant([(-10000, edges, {})], [(-17407, lap, {})], rows, alone=False) is None   # lap fits better

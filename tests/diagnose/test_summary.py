@@ -39,6 +39,14 @@ def test_summary_says_when_an_effect_fits_best_at_the_end_of_its_range():
     assert "end of its plausible range" not in console_summary(_diag([]))
 
 
+def test_summary_says_when_an_effect_is_named_below_its_naming_floor():
+    d = _diag([])
+    d.data["accepted"][0]["below_naming_floor"] = ["no new parameter in its plausible range (valve.g_PB = 0.931)"]
+    text = console_summary(d)
+    assert "below what is usually worth naming (no new parameter in its plausible range (valve.g_PB = 0.931))" in text
+    assert "worth naming" not in console_summary(_diag([]))
+
+
 def test_summary_says_which_earlier_effect_a_later_one_made_redundant():
     d = _diag([])
     d.data["withdrawn"] = [{"effect": "structural_flexibility", "component": "vane", "delta_bic": 10478.0,
