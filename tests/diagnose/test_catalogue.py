@@ -264,7 +264,7 @@ def test_a_breakaway_is_fitted_with_the_speed_it_decays_over(tmp_path, monkeypat
         net, _ = with_pressure_sensors(load_netlist(root / file))
         model = build_model(net)
         ctx = Context(net, set(model.free_params), {node: (0.0, 0.3)}, outputs)
-        (c,) = [c for c in catalogue(ctx)[0] if c.effect == "stribeck_friction"]
+        (c,) = [c for c in catalogue(ctx)[0] if c.effect == "stribeck_friction" and c.variant != "bristles"]
         decay = {p.name: p for p in c.params if not p.primary}
         assert set(decay) == set(speeds)
         for name, v in speeds.items():
@@ -273,6 +273,42 @@ def test_a_breakaway_is_fitted_with_the_speed_it_decays_over(tmp_path, monkeypat
             assert p.bounds == pytest.approx((v / 30, 30 * v)) and p.shapes == pytest.approx((6 * v,))
         aug = build_model(c.build(net))
         assert set(speeds) <= set(aug.free_params)
+
+
+def test_a_breakaway_is_also_offered_with_the_contacts_pre_sliding_spring(tmp_path, monkeypatch):
+    """A translational friction element's breakaway is offered static and with LuGre bristles
+    (``friction`` → ``friction_lugre``): the same law and decay speeds free, the bristle
+    stiffness σ0 and damping σ1 companions on a log scale, σ0 spanning pre-sliding deflections
+    fmax/σ0 of 0.1 µm … 1 mm. The augmented machine builds with a bristle state and simulates;
+    likewise a vane drive's rotary friction (``rotary_friction_lugre``)."""
+    monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path))
+    root = Path(__file__).parents[2] / "machines"
+    net, _ = with_pressure_sensors(load_netlist(root / "luffing_cylinder.yaml"))
+    model = build_model(net)
+    ctx = Context(net, set(model.free_params), {"rod": (0.0, 0.3)},
+                  {"P1": "pressure", "P2": "pressure", "x": "position", "v": "velocity"})
+    forms = {c.variant: c for c in catalogue(ctx)[0] if c.effect == "stribeck_friction"}
+    assert set(forms) == {"", "bristles"}
+    static, lugre = forms[""], forms["bristles"]
+    assert [p.name for p in lugre.params[:len(static.params)]] == [p.name for p in static.params]
+    s0, s1 = lugre.params[-2:]
+    assert (s0.name, s1.name) == ("friction.sigma0", "friction.sigma1")
+    assert not s0.primary and not s1.primary and s0.log and s1.log
+    assert s0.bounds[1] / s0.bounds[0] == pytest.approx(1e4) and s0.bounds[0] < s0.start < s0.bounds[1]
+    aug = build_model(lugre.build(net))
+    assert "friction.z" in aug.state_names and {s0.name, s1.name} <= set(aug.free_params)
+    t = np.linspace(0.0, 0.2, 201)
+    U = np.zeros((t.size, len(aug.input_names)))
+    tr = simulate(aug, InputTable(t, U), t, opts=SolverOptions(rtol=1e-6))
+    assert np.all(np.isfinite(tr.Y))
+    net, _ = with_pressure_sensors(load_netlist(root / "rotary_drive.yaml"))
+    model = build_model(net)
+    ctx = Context(net, set(model.free_params), {"arm_node": (0.0, 0.3)},
+                  {"P1": "pressure", "P2": "pressure", "theta": "position", "w": "velocity"})
+    forms = {c.variant: c for c in catalogue(ctx)[0] if c.effect == "stribeck_friction"}
+    assert set(forms) == {"", "bristles"}
+    aug = build_model(forms["bristles"].build(net))
+    assert "friction.z" in aug.state_names and "friction.sigma0" in aug.free_params
 
 
 def test_a_single_rod_cylinder_is_offered_its_rod_seal_loaded_by_the_rod_side(tmp_path, monkeypatch):

@@ -40,7 +40,10 @@ class FrictionFamily(Family):
     # seals loaded by both chambers (the sum) and a piston seal loaded by the difference are two
     # laws of one effect; which one, like which effect, is for the fits (dev EHA piston seal:
     # the sum screened 38 % and was fitted alone, to μ ≈ 0; the difference law was never fitted)
-    laws = frozenset({"pressure_dependent_friction"})
+    # a breakaway is offered static (the element's own law) and with the contact's pre-sliding
+    # spring (LuGre bristles, :func:`_bristles`): a dev EHA LuGre breakaway (2.2 %) was named
+    # a rod–load link, whose spring and joint friction are the nearest the static law had
+    laws = frozenset({"pressure_dependent_friction", "stribeck_friction"})
 
     def candidates(self, ctx: Context):
         out = []
@@ -66,6 +69,8 @@ class FrictionFamily(Family):
                 continue
             law = _law(effect, names, fmax) + _shape(ctx, fr, effect)
             out.append(self.parameter_candidate(ctx, effect, fr.name, law, "force", desc))
+            if effect == "stribeck_friction" and not any(n in ctx.free for n in names):
+                out.extend(_bristles(ctx, fr, law, fmax))
         out.extend(self._pressure(ctx, fr, act, fmax))
         return out
 
@@ -163,6 +168,37 @@ def _decay(ctx: Context, fr: Part) -> list[NewParam]:
             out.append(NewParam(name, v, (v / DECAY_RANGE, DECAY_RANGE * v), (v / DECAY_RANGE, DECAY_RANGE * v), v,
                                 True, primary=False, shapes=(0.2 * DECAY_RANGE * v,)))
     return out
+
+
+def _bristles(ctx: Context, fr: Part, law: list[NewParam], fmax: float) -> list[Candidate]:
+    """The breakaway with the contact's pre-sliding spring: the friction element turned into the
+    library type that offers the same FRICTION role with ``bristle_stiffness`` (``friction`` →
+    ``friction_lugre``, Canudas de Wit et al. 1995), the static law's parameters ``law`` free as
+    in the static candidate, the bristle stiffness σ0 and damping σ1 as companions (log scale):
+    σ0 from a pre-sliding deflection fmax/σ0 of 1 mm down to 0.1 µm, started at 10 µm; σ1 over
+    six decades, started at fmax per 0.4 m/s (1 kN·s/m on seed 004's bench). None when no such
+    type exists (a rotary friction)."""
+    if fr.role.params_of("bristle_stiffness"):
+        return []
+    target = next((t for t, cls in registry.offering(R.FRICTION).items()
+                   if cls.role(R.FRICTION).params_of("bristle_stiffness")
+                   and cls.role(R.FRICTION).ports == fr.role.ports
+                   and issubclass(cls, registry.get(fr.type))), None)
+    if target is None:
+        return []
+    role = registry.get(target).role(R.FRICTION)
+    s0, s1 = (f"{fr.name}.{role.param(k)}" for k in ("bristle_stiffness", "bristle_damping"))
+    damping = 2.5 * fmax
+    params = law + [NewParam(s0, fmax / 1e-5, (fmax / 1e-3, fmax / 1e-7), (fmax / 1e-3, fmax / 1e-7), fmax / 1e-5,
+                             True, primary=False, shapes=(fmax / 1e-6,)),
+                    NewParam(s1, damping, (1e-3 * damping, 1e3 * damping), (1e-3 * damping, 1e3 * damping), damping,
+                             True, primary=False)]
+
+    def build(net):
+        return A.free_new(A.set_type(net, fr.name, target), params)
+    return [Candidate("stribeck_friction", fr.name, params, build, "force",
+                      "breakaway excess k_s·e^(−|v|/v_s) with the contact's pre-sliding spring "
+                      "(LuGre bristles: dz/dt = v − σ0·|v|·z/g(v), F = σ0·z + σ1·dz/dt)", variant="bristles")]
 
 
 def _file_value(ctx: Context, fr: Part, name: str | None) -> float | None:
