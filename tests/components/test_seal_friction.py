@@ -3,7 +3,7 @@ shaft, against the closed form of a body coasting to rest under a constant frict
 the pressures held, F = size·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b|) is constant while the speed
 is far above the smoothing band, so v(t) = v0 − F·t/m (ω(t) = ω0 − τ·t/J). |Δp| is the
 element's √(Δp² + Δp_ε²) with its default Δp_ε = 0.1 bar; the rod's element adds its rod seal,
-μ_b·A·p_b."""
+μ_b·A·p_b, the vane's its hub seals on each side, (μ_a·p_a + μ_b·p_b)·D."""
 from __future__ import annotations
 
 import numpy as np
@@ -13,7 +13,7 @@ from hydrocli.model.builder import build_model
 from hydrocli.netlist.loader import load_netlist_text
 from hydrocli.solve.simulate import InputTable, SolverOptions, simulate
 
-PA, PB, MU_S, MU_D, MU_B = 80e5, 30e5, 0.01, 0.05, 0.03
+PA, PB, MU_S, MU_D, MU_B, MU_A = 80e5, 30e5, 0.01, 0.05, 0.03, 0.02
 
 COAST = """
 name: coasting_{kind}
@@ -38,9 +38,9 @@ def test_a_body_coasts_to_rest_at_the_seals_constant_deceleration(kind):
                         load="inertia" if rotary else "mass", lport="r" if rotary else "m",
                         lpar="J" if rotary else "m", seal="rotary_seal_friction" if rotary else "seal_friction",
                         size="D_p" if rotary else "A_p", across="w" if rotary else "v",
-                        rod="" if rotary else f", mu_b: {MU_B}")
+                        rod=f", mu_a: {MU_A}, mu_b: {MU_B}" if rotary else f", mu_b: {MU_B}")
     model = build_model(load_netlist_text(text, f"{kind}.yaml"))
-    force = area * (MU_S * (PA + PB) + MU_D * np.hypot(PA - PB, 1e4) + (0.0 if rotary else MU_B * PB))
+    force = area * (MU_S * (PA + PB) + MU_D * np.hypot(PA - PB, 1e4) + MU_B * PB + (MU_A * PA if rotary else 0.0))
     t_stop = v0 * mass / force
     t = np.linspace(0.0, 0.8 * t_stop, 401)
     tr = simulate(model, InputTable(np.array([0.0]), np.zeros((1, 0))), t, opts=SolverOptions(rtol=1e-9))

@@ -224,8 +224,9 @@ def test_a_leak_is_offered_in_both_laws_from_the_first_round(machine):
 def test_a_vane_actuator_is_offered_its_seals_pressure_loaded_friction(tmp_path, monkeypatch):
     """The vane's seals are pressed by the chamber pressures like a piston's (seed 001 §2): the
     rotary drive, whose shaft friction has no pressure term, gets the seal element on the
-    vane's displacement per radian with both laws (the pressure difference, the pressure sum);
-    each builds, frees its coefficient and brakes the swinging arm more than without it."""
+    vane's displacement per radian with three laws (the pressure difference, the pressure sum,
+    each side's hub seal pressed by its own chamber); each builds, frees its coefficients and
+    brakes the swinging arm more than without them."""
     monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path))
     rotary = Path(__file__).parents[2] / "machines" / "rotary_drive.yaml"
     net, _ = with_pressure_sensors(load_netlist(rotary))
@@ -233,19 +234,20 @@ def test_a_vane_actuator_is_offered_its_seals_pressure_loaded_friction(tmp_path,
     ctx = Context(net, set(model.free_params), {"arm_node": (-1.0, 1.0)},
                   {"P1": "pressure", "P2": "pressure", "theta": "position", "w": "velocity"})
     seals = [c for c in catalogue(ctx)[0] if c.effect == "pressure_dependent_friction"]
-    assert sorted(c.variant for c in seals) == ["dp", "sum"]
+    assert sorted(c.variant for c in seals) == ["dp", "sides", "sum"]
     t = np.linspace(0, 0.5, 501)
     U = np.column_stack([20 * np.sin(2 * np.pi * 2 * t), np.full(t.size, 1e7)])
     speed = {}
     for c in seals:
         aug = build_model(c.build(net))
-        (p,) = c.params
-        assert p.name in aug.free_params
-        assert aug.p0[aug.param_index(p.name.rsplit(".", 1)[0] + ".D_p")] == pytest.approx(2.0e-5)
+        names = [p.name for p in c.params]
+        assert set(names) <= set(aug.free_params) and len(names) == (2 if c.variant == "sides" else 1)
+        assert aug.p0[aug.param_index(names[0].rsplit(".", 1)[0] + ".D_p")] == pytest.approx(2.0e-5)
         for mu in (0.0, 0.2):
-            tr = simulate(aug, InputTable(t, U), t, p=aug.param_vector({p.name: mu}), opts=SolverOptions(rtol=1e-6))
+            tr = simulate(aug, InputTable(t, U), t, p=aug.param_vector(dict.fromkeys(names, mu)),
+                          opts=SolverOptions(rtol=1e-6))
             speed[c.variant, mu] = np.abs(tr.Y[:, aug.output_names.index("w")]).max()
-    for v in ("dp", "sum"):
+    for v in ("dp", "sum", "sides"):
         assert speed[v, 0.2] < 0.97 * speed[v, 0.0]
 
 

@@ -6,8 +6,9 @@ F = A_p·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b| + μ_b·p_b)·tanh(v/ε).
 μ_s models seals loaded by both chambers (symmetric), μ_d a piston seal loaded by the pressure
 difference across it, μ_b a single-rod cylinder's rod seal, loaded by the rod side alone. A
 vane actuator's vane and hub seals are pressed the same way (seed 001 §2):
-τ = D_p·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b|)·tanh(ω/ε) on its displacement per radian D_p
-(``rotary_seal_friction``)."""
+τ = D_p·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b| + μ_a·p_a + μ_b·p_b)·tanh(ω/ε) on its displacement
+per radian D_p (``rotary_seal_friction``), where μ_a, μ_b are the hub seals on each chamber's
+side, each pressed by its own chamber (unequal when the seals are: equal, they are μ_s)."""
 from __future__ import annotations
 
 from ...model import expr as E
@@ -21,12 +22,13 @@ def _ports(domain, moving: str, fixed: str) -> tuple:
             Port("pa", H, "chamber A (sensed)"), Port("pb", H, "chamber B (sensed)"))
 
 
-def _parameters(size: Param, speed_unit: str, rod: bool = False) -> tuple:
+def _parameters(size: Param, speed_unit: str, sides: tuple[str, ...]) -> tuple:
     """The seal laws' coefficients per unit of ``size``·pressure, the size, the smoothing; with
-    ``rod`` a rod seal's, loaded by the rod side (port pb) alone."""
+    ``sides`` ("a", "b" or both) the seals pressed by one chamber alone (a rod seal: the rod side,
+    port pb)."""
     s = size.name
-    own = (Param("mu_b", "1", 0.0, f"friction per unit of {s}·p_b (a rod seal: the rod side only)", min=0.0,
-                 bounds=(0.0, 1.0)),) if rod else ()
+    own = tuple(Param(f"mu_{k}", "1", 0.0, f"friction per unit of {s}·p_{k} (a seal pressed by chamber {k.upper()} "
+                                          "alone)", min=0.0, bounds=(0.0, 1.0)) for k in sides)
     return (Param("mu_s", "1", 0.0, f"friction per unit of {s}·(p_a + p_b)", min=0.0, bounds=(0.0, 0.2)),
             Param("mu_d", "1", 0.0, f"friction per unit of {s}·|p_a − p_b|", min=0.0, bounds=(0.0, 1.0)),
             *own, size,
@@ -42,7 +44,7 @@ class SealFriction(Component):
     source = "seed 000 eq. 23"
     ports = _ports(T, "moving side (rod)", "fixed side")
     parameters = _parameters(Param("A_p", "m^2", 1e-3, "reference area (the piston area)", positive=True), "m/s",
-                             rod=True)
+                             ("b",))
     variables = (VariableSpec("F", "N", "friction force opposing a relative to b"),)
 
     def equations(self, c):
@@ -57,7 +59,7 @@ class RotarySealFriction(Component):
     source = "seed 000 eq. 23; seed 001 §2 (vane seals)"
     ports = _ports(R, "moving side (vane shaft)", "fixed side (housing)")
     parameters = _parameters(Param("D_p", "m^3/rad", 1e-5, "reference displacement per radian (the vane's)",
-                                   positive=True), "rad/s")
+                                   positive=True), "rad/s", ("a", "b"))
     variables = (VariableSpec("tau", "N*m", "friction torque opposing a relative to b"),)
 
     def equations(self, c):
@@ -65,12 +67,14 @@ class RotarySealFriction(Component):
 
 
 def _seal(c, size, name: str) -> None:
-    """size·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b|)·tanh(Δv/ε) between a and b (seed 000 eq. 23)."""
+    """size·(μ_s·(p_a + p_b) + μ_d·|p_a − p_b| [+ μ_a·p_a] [+ μ_b·p_b])·tanh(Δv/ε) between a and b
+    (seed 000 eq. 23); a one-sided term only where the element has it and it is in use."""
     p = c.p
     pa, pb = c.across("pa"), c.across("pb")
     load = p.mu_s * (pa + pb) + p.mu_d * E.smooth_abs(pa - pb, p.dp_eps)
-    if c.active("mu_b"):
-        load = load + p.mu_b * pb
+    for k, pk in (("mu_a", pa), ("mu_b", pb)):
+        if c.active(k):
+            load = load + getattr(p, k) * pk
     f = c.let(name, size * load * tanh_sign(c.across("a") - c.across("b"), p.eps))
     c.through("a", f)
     c.through("b", -f)

