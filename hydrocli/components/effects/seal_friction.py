@@ -27,8 +27,8 @@ def _parameters(size: Param, speed_unit: str, sides: tuple[str, ...]) -> tuple:
     ``sides`` ("a", "b" or both) the seals pressed by one chamber alone (a rod seal: the rod side,
     port pb)."""
     s = size.name
-    own = tuple(Param(f"mu_{k}", "1", 0.0, f"friction per unit of {s}·p_{k} (a seal pressed by chamber {k.upper()} "
-                                          "alone)", min=0.0, bounds=(0.0, 1.0)) for k in sides)
+    own = tuple(Param(f"mu_{k}", "1", 0.0, f"friction per unit of {s}·p_{k} (a seal pressed by chamber {k.upper()} alone)",
+                      min=0.0, bounds=(0.0, 1.0)) for k in sides)
     return (Param("mu_s", "1", 0.0, f"friction per unit of {s}·(p_a + p_b)", min=0.0, bounds=(0.0, 0.2)),
             Param("mu_d", "1", 0.0, f"friction per unit of {s}·|p_a − p_b|", min=0.0, bounds=(0.0, 1.0)),
             *own, size,
