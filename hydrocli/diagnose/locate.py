@@ -181,6 +181,18 @@ def _bands(spectra) -> dict:
     return out
 
 
+def residual_peaks(located: dict, spread: float = 0.1) -> tuple[float, ...]:
+    """The peak frequencies of the residual spectra (:func:`_bands`), one per output, those
+    within ``spread`` of a lower one merged: a lightly damped mode the model lacks (a payload
+    swinging on its rope) leaves its frequency as the residual's peak (held-out seed 76's vane
+    pendulum, a rope payload swinging at 0.70 Hz: P1's residual peaks at 0.73 Hz)."""
+    out: list[float] = []
+    for f in sorted(s["peak_hz"] for s in (located.get("spectrum") or {}).values() if s.get("peak_hz", 0.0) > 0.0):
+        if not out or f > (1.0 + spread) * out[-1]:
+            out.append(f)
+    return tuple(out)
+
+
 def whiteness(model: Model, exps, Ys, outputs: list[str], maxlag_s: float = 0.2) -> dict:
     """Per output: Ljung–Box p-value, effective n, and the largest cross-correlation of the
     residual with each input (with the significance band 1.96/√n_eff)."""

@@ -104,6 +104,8 @@ class Context:
     inputs_start: dict[str, float] = field(default_factory=dict)  # input → first sample (mean over training)
     position_censored: dict[str, tuple[bool, bool]] = field(default_factory=dict)  # node → (min, max) hidden
                                                             # by the recording's mask (a clipping sensor)
+    residual_peaks_hz: tuple[float, ...] = ()               # where the base fit's residual spectra peak
+                                                            # (locate.residual_peaks): a mode it lacks
 
     def parts(self, role: str) -> list["Part"]:
         """Every component of the machine that offers ``role``, in file order."""

@@ -12,9 +12,13 @@ mass on a flexible tip is the same spring–mass with a stiffer spring, and both
 the rope's or the tip's own damping): the damping is identified too, a companion started at 5 %
 of critical, and the swing is tried at three frequencies (rope lengths 1 m, 10 cm, 1.5 cm: 0.5,
 1.6 and 4 Hz), each a basin of its own (dev rotary boom-tip payload at 1.4 Hz, ζ ≈ 4 %: from
-the 0.5 Hz start alone the fit let the spring go slack and nothing was found).
+the 0.5 Hz start alone the fit let the spring go slack and nothing was found), and at the
+frequencies where the base fit's residual spectra peak: a lightly damped swing is a narrow
+basin (a rope payload swinging at 0.70 Hz, started at 0.5 Hz, fitted a 15 Hz spring).
 """
 from __future__ import annotations
+
+import math
 
 from ...components import roles as R
 from ...components.base import Domain
@@ -25,6 +29,8 @@ G = 9.81
 L_START = 1.0        # m: rope length of the start and probe values (frequency 0.5 Hz)
 L_SHAPES = (0.1, 0.015)   # m: the other swings tried (1.6 and 4 Hz)
 ZETA = 0.05          # damping ratio of the start values
+#: Hz: the swings the residual's peak frequency is taken as a start for (√(g/L)/2π, L 50 m … 5 mm)
+F_RANGE = ((G / 50.0) ** 0.5 / (2 * math.pi), (G / 0.005) ** 0.5 / (2 * math.pi))
 
 
 class RotaryPayloadFamily(Family):
@@ -57,7 +63,10 @@ def _payload(ctx: Context, act: Part, node: str, load: Part) -> Candidate:
     jp, kp, cp = f"{pj}.{lrole.param('inertia')}", f"{rope}.{srole.param('stiffness')}", f"{loss}.{drole.param('damping')}"
     j0 = 1e-3 * J
     k0, k_probe = j0 * G / L_START, 0.3 * J * G / L_START
-    k_shapes = tuple(0.3 * J * G / L for L in L_SHAPES)
+    # a swing the residual shows: its frequency f is a start of its own, k = 0.3·J·(2πf)²
+    # (rope lengths 5 mm … 50 m: 0.07–7 Hz)
+    seen = tuple(f for f in ctx.residual_peaks_hz if F_RANGE[0] <= f <= F_RANGE[1])[:2]
+    k_shapes = tuple(0.3 * J * G / L for L in L_SHAPES) + tuple(0.3 * J * (2 * math.pi * f) ** 2 for f in seen)
 
     def critical(k: float, j: float) -> float:
         return 2.0 * ZETA * (k * j) ** 0.5
