@@ -145,7 +145,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     screening when no effect can pass (:func:`accept.within_reach`), unless ``must_fit()``
     (asked only then): its fits have to name a base-fit finding all the same."""
     train, validate, outputs = su.train, su.validate, su.outputs
-    cands, skipped = catalogue(replace(context(su, stage), residual_peaks_hz=locate.residual_peaks(located)))
+    cands, skipped = catalogue(context(su, stage, located))
     out = Round([], skipped=[{"effect": s.effect, "reason": s.reason} for s in skipped])
     first = _first_gain(accepted)
     later, val = first is not None, residuals.total(stage.esr_validation)

@@ -4,7 +4,7 @@ print them. Data flows one way: :mod:`.engine` and the steps it calls import thi
 reverse."""
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -137,8 +137,11 @@ def stops_of(c) -> list[dict]:
             for p in c.params if p.seen]
 
 
-def context(su: Setup, stage: Stage) -> Context:
-    return context_of(su, stage.net, set(stage.free), stage.model)
+def context(su: Setup, stage: Stage, located: dict | None = None) -> Context:
+    """The catalogue's view of ``stage``; with the base fit's ``located`` residual, the
+    frequencies its spectra peak at (:func:`locate.residual_peaks`)."""
+    ctx = context_of(su, stage.net, set(stage.free), stage.model)
+    return replace(ctx, residual_peaks_hz=locate.residual_peaks(located)) if located else ctx
 
 
 def context_of(su: Setup, net: Netlist, free: set[str], model: Model) -> Context:
