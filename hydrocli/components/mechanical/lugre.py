@@ -35,21 +35,29 @@ def bristle_force(c, v, g, viscous, sigma0, sigma1):
     return sigma0 * z + sigma1 * zdot + viscous
 
 
+def bristle_spec(base, force: str, travel: str, sigma0: float, sigma1: float, top: float) -> tuple:
+    """(roles, parameters, states) of ``base`` with bristles: its FRICTION role offering
+    ``bristle_stiffness``/``bristle_damping``, the parameters σ0 [force/travel] and
+    σ1 [force·s/travel] (defaults ``sigma0``, ``sigma1``; σ0 within ``top``·10⁻⁸ … ``top``), and
+    the bristle state z [travel]."""
+    rl = base.roles[0]
+    roles = (role(RL.FRICTION, dict(rl.ports), **dict(rl.params), bristle_stiffness="sigma0", bristle_damping="sigma1"),)
+    parameters = base.parameters + (
+        Param("sigma0", f"{force}/{travel}", sigma0, f"bristle stiffness σ0 (pre-sliding {travel} g/σ0)", positive=True,
+              bounds=(1e-8 * top, top)),
+        Param("sigma1", f"{force}*s/{travel}", sigma1, "bristle damping σ1", min=0.0, bounds=(0.0, 1e-3 * top)),
+    )
+    return roles, parameters, (StateSpec("z", travel, "mean bristle deflection", nominal=1e-6),)
+
+
 @register
 class LuGreFriction(Friction):
     """Asymmetric viscous/Coulomb/Stribeck friction with bristle dynamics (LuGre)."""
 
     type = "friction_lugre"
-    roles = (role(RL.FRICTION, dict(Friction.roles[0].ports), **{k: v for k, v in Friction.roles[0].params},
-                  bristle_stiffness="sigma0", bristle_damping="sigma1"),)
+    roles, parameters, states = bristle_spec(Friction, "N", "m", 1e8, 1e3, 1e11)
     description = "Asymmetric viscous/Coulomb/Stribeck friction with bristle (pre-sliding) dynamics, LuGre"
     source = "Canudas de Wit et al. 1995 eqs. 1–3; seed 004 eqs. 9–11"
-    parameters = Friction.parameters + (
-        Param("sigma0", "N/m", 1e8, "bristle stiffness σ0 (pre-sliding displacement g/σ0)", positive=True,
-              bounds=(1e3, 1e11)),
-        Param("sigma1", "N*s/m", 1e3, "bristle damping σ1", min=0.0, bounds=(0.0, 1e7)),
-    )
-    states = (StateSpec("z", "m", "mean bristle deflection", nominal=1e-6),)
 
     def equations(self, c):
         p = c.p
@@ -69,16 +77,9 @@ class RotaryLuGreFriction(RotaryFriction):
     slide)."""
 
     type = "rotary_friction_lugre"
-    roles = (role(RL.FRICTION, dict(RotaryFriction.roles[0].ports), **{k: v for k, v in RotaryFriction.roles[0].params},
-                  bristle_stiffness="sigma0", bristle_damping="sigma1"),)
+    roles, parameters, states = bristle_spec(RotaryFriction, "N*m", "rad", 1e5, 10.0, 1e9)
     description = "Coulomb/viscous/Stribeck rotary friction with bristle (pre-sliding) dynamics, LuGre"
     source = "Canudas de Wit et al. 1995 eqs. 1–3; seed 001 eqs. 14–15"
-    parameters = RotaryFriction.parameters + (
-        Param("sigma0", "N*m/rad", 1e5, "bristle stiffness σ0 (pre-sliding angle g/σ0)", positive=True,
-              bounds=(1.0, 1e9)),
-        Param("sigma1", "N*m*s/rad", 10.0, "bristle damping σ1", min=0.0, bounds=(0.0, 1e6)),
-    )
-    states = (StateSpec("z", "rad", "mean bristle deflection", nominal=1e-6),)
 
     def equations(self, c):
         p = c.p
