@@ -183,6 +183,18 @@ class Part:
     def params(self, slot: str) -> list[str]:
         return [f"{self.name}.{p}" for p in self.role.params_of(slot)]
 
+    def richer_type(self, slot: str) -> str | None:
+        """The library type that derives from this part's type and offers its role on the same
+        ports with ``slot`` as well (``valve_4_3`` → ``valve_4_3_edges``, ``friction`` →
+        ``friction_lugre``): an effect the part's own type has no term for, reached by
+        :func:`augment.set_type`. None when the part offers ``slot`` already or no type does."""
+        if self.role.params_of(slot):
+            return None
+        mine = registry.get(self.type)
+        return next((t for t, cls in registry.offering(self.role.name).items()
+                     if cls.role(self.role.name).params_of(slot) and cls.role(self.role.name).ports == self.role.ports
+                     and issubclass(cls, mine)), None)
+
 
 class Family:
     """A family of effects: ``candidates(ctx)`` and ``skipped(ctx)`` (effects it covers but

@@ -176,14 +176,9 @@ def _bristles(ctx: Context, fr: Part, law: list[NewParam], fmax: float) -> list[
     ``friction_lugre``, Canudas de Wit et al. 1995), the static law's parameters ``law`` free as
     in the static candidate, the bristle stiffness σ0 and damping σ1 as companions (log scale):
     σ0 from a pre-sliding deflection fmax/σ0 of 1 mm down to 0.1 µm, started at 10 µm; σ1 over
-    six decades, started at fmax per 0.4 m/s (1 kN·s/m on seed 004's bench). None when no such
-    type exists (a rotary friction)."""
-    if fr.role.params_of("bristle_stiffness"):
-        return []
-    target = next((t for t, cls in registry.offering(R.FRICTION).items()
-                   if cls.role(R.FRICTION).params_of("bristle_stiffness")
-                   and cls.role(R.FRICTION).ports == fr.role.ports
-                   and issubclass(cls, registry.get(fr.type))), None)
+    six decades, started at fmax per 0.4 m/s (1 kN·s/m on seed 004's bench). Empty when the
+    element has bristles already or no such type exists (:meth:`Part.richer_type`)."""
+    target = fr.richer_type("bristle_stiffness")
     if target is None:
         return []
     role = registry.get(target).role(R.FRICTION)

@@ -138,12 +138,7 @@ def _edges(ctx: Context, part: Part) -> Candidate | None:
     same metering-valve role with ``edge_gains`` and the same ports (``valve_4_3`` →
     ``valve_4_3_edges``). When the flow gain is free in the base model one edge gain is fixed
     at 1 (it carries the common scale). None when no such type exists."""
-    if part.role.params_of("edge_gains"):
-        return None
-    target = next((t for t, cls in registry.offering(R.METERING_VALVE).items()
-                   if cls.role(R.METERING_VALVE).params_of("edge_gains")
-                   and cls.role(R.METERING_VALVE).ports == part.role.ports
-                   and issubclass(cls, registry.get(part.type))), None)
+    target = part.richer_type("edge_gains")
     if target is None:
         return None
     gains = registry.get(target).role(R.METERING_VALVE).params_of("edge_gains")
