@@ -29,7 +29,7 @@ from ..identify.fit import sensitivities_available
 from ..model.builder import build_model
 from ..netlist.loader import load_netlist
 from . import (accept, augment, backward, base_findings, baseline, candidate_fits, design, findings, locate, nuisance,
-               ranking, residuals, restrain, restrained, runaway, stats, travel, workers)
+               ranking, residuals, restrain, restrained, runaway, short_horizon, stats, travel, workers)
 from .candidates import COMPLIANCES, SWITCHING, Candidate, catalogue
 from .equations import equation_errors
 from .measurement import with_pressure_sensors
@@ -502,12 +502,21 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
             stage = rnd.stage
             stage, accepted, out = backward.backward(su, b, stage, accepted, built, st, progress)
             withdrawn += out
+        short = None      # the short-horizon test's record, when it ran
+        if short_horizon.needed(st, accepted, stage.esr_validation, su.noise, b.located):
+            entry, new, short = short_horizon.round_(su, stage, b.located, st, pool, progress)
+            if entry is not None:
+                accepted.append(entry)
+                history.append(stage)
+                stage = new
     if stage is not b.stage:
         accepted = base_findings.still_found(su, b, stage, accepted, progress)
     accepted = accepted + base_findings.late_findings(su, b, stage, accepted, progress, last)
     data = conclude(su, b, stage, accepted, rows, skipped, train_paths, validate_paths, t_start)
     if stopped:
         data["stopped_at_noise_floor"] = stopped
+    if short is not None:
+        data["short_horizon"] = short
     if withdrawn:
         data["withdrawn"] = [{k: v for k, v in w.items() if k != "key"} for w in withdrawn]
     if ambiguous:

@@ -11,6 +11,8 @@ output expressions.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from scipy import signal
 
@@ -38,36 +40,66 @@ def measured_states(model: Model, exp) -> dict[str, str]:
     return out
 
 
-def _lowpass(y, fs):
-    b, a = signal.butter(2, min(FC_HZ / (fs / 2), 0.9))
+def _lowpass(y, fs, fc=FC_HZ):
+    b, a = signal.butter(2, min(fc / (fs / 2), 0.9))
     return signal.filtfilt(b, a, y, axis=0)
 
 
-def equation_errors(model: Model, exp, p: np.ndarray) -> dict[str, dict]:
-    """{state: {"output", "balance", "relative_rms", "error"}} along the measured trajectory."""
+@dataclass
+class Hybrid:
+    """A trajectory whose measured states are the (low-passed) measurements and whose other
+    states are simulated; ``measured``: {state: output}."""
+    t: np.ndarray
+    X: np.ndarray
+    U: np.ndarray
+    measured: dict[str, str]
+    fs: float
+    fc: float = FC_HZ
+
+    def lowpass(self, y):
+        return _lowpass(y, self.fs, self.fc)
+
+
+def hybrid_trajectory(model: Model, exp, p: np.ndarray, fc: float = FC_HZ) -> Hybrid:
+    """The model simulated along ``exp`` with parameters ``p``, each measured state replaced by
+    its measurement, zero-phase low-pass filtered at ``fc``."""
     t = exp.t_out
     fs = 1.0 / float(np.median(np.diff(t)))
     traj = simulate(model, exp.inputs, t, p=p, x0=initial_state(model, exp, p), opts=OPTS)
     X = traj.X.copy()
     ms = measured_states(model, exp)
     for s, o in ms.items():
-        X[:, model.state_index(s)] = _lowpass(exp.measured[o], fs)
+        X[:, model.state_index(s)] = _lowpass(exp.measured[o], fs, fc)
     U = np.column_stack([np.interp(t, exp.inputs.t, exp.inputs.U[:, j]) for j in range(exp.inputs.U.shape[1])]) \
         if exp.inputs.U.shape[1] else np.zeros((t.size, 0))
-    dx, _, _, _ = model.numpy_evaluate()(t, list(X.T), p, list(U.T))
+    return Hybrid(t, X, U, ms, fs, fc)
+
+
+def balance_of(model: Model, state: str) -> str | None:
+    """The balance whose equation is ``state``'s derivative: continuity for a pressure, force
+    or torque balance for a velocity; None for a kinematic state (dx/dt = v) or a sensor's."""
+    unit = model.states[model.state_index(state)].unit
+    if unit == "m" or state.endswith(".y"):
+        return None
+    node = state.rsplit(".", 1)[0]
+    return {"Pa": f"continuity at '{node}'", "m/s": f"force balance at '{node}'",
+            "rad/s": f"torque balance at '{node}'"}.get(unit, f"equation of '{state}'")
+
+
+def equation_errors(model: Model, exp, p: np.ndarray) -> dict[str, dict]:
+    """{state: {"output", "balance", "relative_rms", "error"}} along the measured trajectory."""
+    h = hybrid_trajectory(model, exp, p)
+    dx, _, _, _ = model.numpy_evaluate()(h.t, list(h.X.T), p, list(h.U.T))
     out = {}
-    for s, o in ms.items():
-        i = model.state_index(s)
-        unit = model.states[i].unit
-        if unit == "m" or s.endswith(".y"):        # kinematic (dx/dt = v) or the sensor itself
+    for s, o in h.measured.items():
+        balance = balance_of(model, s)
+        if balance is None:
             continue
-        meas = np.gradient(X[:, i], t)
-        f = _lowpass(np.broadcast_to(np.asarray(dx[i], float), t.shape), fs)
+        i = model.state_index(s)
+        meas = np.gradient(h.X[:, i], h.t)
+        f = h.lowpass(np.broadcast_to(np.asarray(dx[i], float), h.t.shape))
         e = meas - f
         scale = float(np.sqrt(np.mean(meas ** 2))) or 1.0
-        node = s.rsplit(".", 1)[0]
-        balance = {"Pa": f"continuity at '{node}'", "m/s": f"force balance at '{node}'",
-                   "rad/s": f"torque balance at '{node}'"}.get(unit, f"equation of '{s}'")
         out[s] = {"output": o, "balance": balance, "relative_rms": float(np.sqrt(np.mean(e ** 2))) / scale,
                   "error": e}
     return out
