@@ -20,8 +20,9 @@ windows with its own parameters and those of the element it attaches to, next to
 that fits the same base parameters alone. A candidate stands when it predicts the HELD-OUT
 windows better than its control in a one-sided paired t-test over the windows (each window
 restarts from the measurement, so windows are nearly independent), at ``ALPHA`` shared between
-the candidates tested (Bonferroni). The best such is named; the whole-record ESR it reaches is
-reported as it is, worse or not.
+the candidates tested (Bonferroni), removes at least ``MIN_GAIN`` of their error, and improves
+the BIC of the training windows (each window counted as one independent sample). The best such
+is named; the whole-record ESR it reaches is reported as it is, worse or not.
 """
 from __future__ import annotations
 
@@ -35,7 +36,7 @@ from ..errors import HydroError
 from ..identify.transforms import FreeParameters
 from ..model.model import Model
 from ..solve.simulate import simulate
-from . import augment, findings, residuals
+from . import augment, findings, residuals, stats
 from .candidates import Candidate, catalogue
 from .equations import hybrid_trajectory
 from .residuals import OPTS
@@ -256,11 +257,14 @@ def judge_windows(machine: str, model: Model, p: np.ndarray, free: list[str], ba
             continue
         gain, pv = paired_gain(ctl["validate"], f["validate"])
         gain_tr = float(1.0 - f["train"].sum() / ctl["train"].sum()) if ctl["train"].sum() > 0 else 0.0
+        # BIC on the training windows, each window one independent sample: it restarts from the
+        # measurement, while the samples within it are as correlated as the model's error
+        dbic = stats.delta_bic(float(ctl["train"].sum()), float(f["train"].sum()), float(f["train"].size), len(c.params))
         rows.append({"key": c.key, "effect": c.effect, "component": c.component, "names": f["names"],
                      "values": f["values"], "p": f["p"], "gain_train": gain_tr, "gain_validation": gain, "p_value": pv,
                      "cost_validation_control": float(ctl["validate"].sum()),
                      "cost_validation": float(f["validate"].sum()),
-                     "passed": bool(gain >= MIN_GAIN and gain_tr > 0 and pv < alpha)})
+                     "delta_bic": dbic, "passed": bool(gain >= MIN_GAIN and dbic < 0 and pv < alpha)})
     rows.sort(key=lambda r: -r.get("gain_validation", -np.inf))
     best = next((r for r in rows if r["passed"]), None)
     return {"window_s": window_s, "windows": int(sum(w.starts.size for w in wva)), "alpha": alpha, "rows": rows,
@@ -310,13 +314,14 @@ def round_(su: Setup, stage: Stage, located: dict, st: Settings, pool=None,
     entry = {"key": c.key, "effect": c.effect, "component": c.component, "source": "short_horizon",
              "description": c.description,
              "parameters": parameter_rows(c.params, dict(zip(best["names"], best["values"])), {}, ()),
+             "delta_bic": best["delta_bic"],
              "esr_train_before": stage.esr_train, "esr_train_after": new.esr_train,
              "esr_validation_before": stage.esr_validation, "esr_validation_after": new.esr_validation,
              "short_horizon": {"window_s": res["window_s"], "windows_validation": res["windows"],
                                "cost_validation_before": best["cost_validation_control"],
                                "cost_validation_after": best["cost_validation"],
                                "gain_validation": best["gain_validation"], "gain_train": best["gain_train"],
-                               "p_value": best["p_value"]},
+                               "p_value": best["p_value"], "delta_bic": best["delta_bic"]},
              "alternatives": [{"effect": r["effect"], "component": r["component"],
                                "gain_validation": r["gain_validation"]} for r in others]}
     log(progress, f"  {c.effect} on '{c.component}' predicts the held-out windows "

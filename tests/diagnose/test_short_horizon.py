@@ -95,7 +95,7 @@ def test_a_breakaway_that_makes_the_rod_stick_and_slip_is_named_on_the_windows(l
     wva = short_horizon.windows_of(model, validate, model.p0, list(model.output_names))
     truth_cost = short_horizon.window_residuals(model, truth, wva)[1].sum()
     best = rows["stribeck_friction@friction"]
-    assert best["gain_validation"] > short_horizon.MIN_GAIN
+    assert best["gain_validation"] > short_horizon.MIN_GAIN and best["delta_bic"] < 0
     assert (best["cost_validation_control"] - best["cost_validation"]) > 0.5 * (best["cost_validation_control"] - truth_cost)
     fitted = dict(zip(rows["stribeck_friction@friction"]["names"], rows["stribeck_friction@friction"]["values"]))
     assert 1000.0 < fitted["friction.ks_p"] < 6000.0
