@@ -39,7 +39,7 @@ from ..solve.simulate import simulate
 from . import augment, findings, residuals, stats
 from .candidates import Candidate, catalogue
 from .equations import hybrid_trajectory
-from .residuals import OPTS
+from .residuals import OPTS, used
 from .stage import Setup, Settings, Stage, context, log, make_stage
 from .workers import model_from_text, parameter_rows, run_all, warm_vector
 
@@ -69,6 +69,8 @@ class Windows:
 
 
 def windows_of(model: Model, exps: list, p: np.ndarray, outputs: list[str], window_s: float = WINDOW_S) -> list[Windows]:
+    """Each experiment cut into back-to-back windows of ``window_s``, started on the hybrid
+    trajectory of ``model`` at ``p`` (measured states low-passed at ``FC_START_HZ``)."""
     out = []
     for e in exps:
         h = hybrid_trajectory(model, e, p, FC_START_HZ)
@@ -105,7 +107,7 @@ def window_residuals(model: Model, p: np.ndarray, ws: list[Windows]) -> tuple[np
             for o in w.outputs:
                 y = w.exp.measured[o][seg]
                 r = (np.full(y.shape, FAILED) if Y is None else (Y[:, col[o]] - y) / w.scale[o])
-                parts.append(np.where(np.isfinite(r), r, 0.0))
+                parts.append(np.where(np.isfinite(r) & used(w.exp, o)[seg], r, 0.0))
             r = np.concatenate(parts) / np.sqrt(total)
             rs.append(r)
             costs.append(float(r @ r))
@@ -138,36 +140,28 @@ def fit_bounded(fun, start: np.ndarray, lo: np.ndarray, hi: np.ndarray, logs: np
 
 
 def fit_one(job: dict) -> dict:
-    """A worker: the model of ``job["text"]`` fitted on the training windows over
-    ``job["names"]`` from each of ``job["starts"]``; its costs on both sets of windows."""
+    """A worker: the model of ``job["text"]`` fitted on (every other of) the training windows
+    over ``job["names"]``, Powell from the better of ``job["starts"]`` (a probe can be far
+    worse than "off"); its costs on every window of both sets."""
     try:
         model = model_from_text(job["text"], job["file"])
         p = warm_vector(model, job["base_names"], job["base_values"])
-        for n, v in job.get("set", {}).items():
-            p[model.param_index(n)] = v
         idx = [model.param_index(n) for n in job["names"]]
-        if not idx:
-            return {"key": job["key"], "names": [], "values": [], "p": p, "error": None,
-                    "train": window_residuals(model, p, job["train"])[1],
-                    "validate": window_residuals(model, p, job["validate"])[1]}
-        fp = FreeParameters.from_model(model, job["names"])
-        lo, hi = np.asarray(fp.lo, float), np.asarray(fp.hi, float)
+        if idx:
+            fp = FreeParameters.from_model(model, job["names"])
+            lo, hi = np.asarray(fp.lo, float), np.asarray(fp.hi, float)
+            fitted = [thinned(w) for w in job["train"]]
 
-        fitted = [thinned(w) for w in job["train"]]
-
-        def fun(theta):
-            q = p.copy()
-            q[idx] = theta
-            return window_residuals(model, q, fitted)[0]
-        # Powell from the better of the starts (a probe can be far worse than "off")
-        first = min((np.clip(np.asarray(s, float), lo, hi) for s in job["starts"]), key=lambda s: float(np.sum(fun(s) ** 2)))
-        th = fit_bounded(fun, first, lo, hi, np.asarray(job["logs"], bool), job["max_fev"])
-        best = (float(np.sum(fun(th) ** 2)), th)
-        q = p.copy()
-        q[idx] = best[1]
-        return {"key": job["key"], "names": job["names"], "values": best[1].tolist(), "p": q,
-                "train": window_residuals(model, q, job["train"])[1], "validate": window_residuals(model, q, job["validate"])[1],
-                "error": None}
+            def fun(theta):
+                q = p.copy()
+                q[idx] = theta
+                return window_residuals(model, q, fitted)[0]
+            first = min((np.clip(np.asarray(s, float), lo, hi) for s in job["starts"]),
+                        key=lambda s: float(np.sum(fun(s) ** 2)))
+            p[idx] = fit_bounded(fun, first, lo, hi, np.asarray(job["logs"], bool), job["max_fev"])
+        return {"key": job["key"], "names": job["names"], "values": p[idx].tolist(), "p": p, "error": None,
+                "train": window_residuals(model, p, job["train"])[1],
+                "validate": window_residuals(model, p, job["validate"])[1]}
     except Exception as exc:   # a candidate that cannot be built or simulated is reported, not fatal
         return {"key": job["key"], "error": f"{type(exc).__name__}: {exc}"}
 
