@@ -96,6 +96,7 @@ def test_a_breakaway_that_makes_the_rod_stick_and_slip_is_named_on_the_windows(l
     truth_cost = short_horizon.window_residuals(model, truth, wva)[1].sum()
     best = rows["stribeck_friction@friction"]
     assert best["gain_validation"] > short_horizon.MIN_GAIN and best["delta_bic"] < 0
+    assert best["p_value_persistence"] < res["alpha"] and best["cost_validation"] < 0.5 * res["cost_validation_persistence"]
     assert (best["cost_validation_control"] - best["cost_validation"]) > 0.5 * (best["cost_validation_control"] - truth_cost)
     fitted = dict(zip(rows["stribeck_friction@friction"]["names"], rows["stribeck_friction@friction"]["values"]))
     assert 1000.0 < fitted["friction.ks_p"] < 6000.0
@@ -127,3 +128,37 @@ def test_the_test_runs_only_when_nothing_was_named_and_the_mismatch_stays_above_
     assert not short_horizon.needed(Settings(), [], at_noise, noise, {})
     assert not short_horizon.needed(Settings(), [{"effect": "coulomb_friction"}], above, noise, {})
     assert not short_horizon.needed(Settings(short_horizon=False), [], above, noise, {})
+
+
+def test_holding_the_outputs_at_their_start_costs_what_a_ramp_moves_in_a_window():
+    """Persistence on a ramp y = a·t, windows of 50 samples at 1 kHz: each window's residual is
+    a·(t − t₀) over its 51 samples, Σ (a·k·dt)² for k = 0…50, scaled by var(y)·samples."""
+    t = np.arange(1001) / 1000.0
+    a = 2.0
+    exp = Experiment(name="ramp", file="<synthetic>", inputs=InputTable(t, np.zeros((t.size, 0))), t_out=t,
+                     measured={"y": a * t}, fit_outputs=["y"])
+    w = short_horizon.Windows(exp, np.arange(0, 950, 50), 50, np.zeros((19, 0)), [], ["y"], {"y": float(np.std(a * t))})
+    cost = short_horizon.persistence_costs([w])
+    k = np.arange(51) * 1e-3
+    expected = float(np.sum((a * k) ** 2)) / np.var(a * t) / (19 * 51)
+    assert cost.shape == (19,) and cost == pytest.approx(np.full(19, expected), rel=1e-9)
+    still = Experiment(name="still", file="<synthetic>", inputs=exp.inputs, t_out=t, measured={"y": np.ones_like(t)},
+                       fit_outputs=["y"])
+    assert short_horizon.persistence_costs([short_horizon.Windows(still, w.starts, 50, w.x0, [], ["y"], {"y": 1.0})]).sum() == 0
+
+
+def test_a_sensors_own_lag_is_not_tested_on_windows_that_start_it_on_its_reading(lift, tmp_path):
+    """A window starts a sensor on its own reading: a slower sensor predicts a short window
+    better the slower it is, whatever the machine does. The lift with its pressure sensors (the
+    diagnosis's measurement model): the sensors' lag candidates add no state, yet are left out."""
+    from hydrocli.diagnose.measurement import with_pressure_sensors
+    from hydrocli.model.builder import build_model
+    net, _ = with_pressure_sensors(lift[0])
+    model = build_model(net)
+    ctx = Context(net, set(model.free_params), {"rod": (0.1, 0.2)}, {"P1": "pressure", "v": "speed"}, {"u": 0.0})
+    cands = [c for c in catalogue(ctx)[0] if c.effect in ("sensor_lag", "stribeck_friction")]
+    texts = {c.key: augment.text_of(c.build(net)) for c in cands}
+    lags = [c for c in cands if c.effect == "sensor_lag"]
+    assert any(c.component.endswith("_sensor") for c in lags)
+    tested = short_horizon.state_free(cands, texts, model, str(LIFT))
+    assert {c.effect for c in tested} == {"stribeck_friction"}
