@@ -149,9 +149,14 @@ def context(su: Setup, stage: Stage, located: dict | None = None) -> Context:
 
 def context_of(su: Setup, net: Netlist, free: set[str], model: Model) -> Context:
     """What the catalogue looks at for this machine: the travel the training recordings show
-    (ranges and masked ends, read through ``model``'s outputs), outputs, inputs at the start."""
+    (ranges and masked ends, read through ``model``'s outputs), outputs, inputs at the start,
+    and the travel every recording shows (where a stop the training never pressed must not
+    sit)."""
     ranges, censored = travel.ends(model, su.train)
-    return Context(net, free, ranges, locate.output_quantities(model), su.inputs_start, censored)
+    held, _ = travel.ends(model, su.validate)
+    recorded = {s: (min(r[0], held[s][0]), max(r[1], held[s][1])) if s in held else r for s, r in ranges.items()}
+    return Context(net, free, ranges, locate.output_quantities(model), su.inputs_start, censored,
+                   recorded_range=recorded)
 
 
 def fmt_esr(table: dict) -> str:

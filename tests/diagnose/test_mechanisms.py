@@ -706,6 +706,36 @@ def test_a_vane_actuator_offers_end_stops_in_its_own_units():
     assert by_name["vane.theta_max"].reach == pytest.approx((-0.6, 0.6))
 
 
+def test_a_stop_the_training_never_pressed_is_withdrawn_beyond_every_recording():
+    """Held-out seed 76's vane: trained over 0 … 0.52 rad against a bumper at 0.5 rad, run to
+    −0.80 rad in the held-out record. The lower stop, never pressed in training, was withdrawn to
+    its outer bound, −0.26 rad (half the travel seen below it), where the held-out run met it:
+    validation ESR 139 → 1590 %. The outer bounds now lie a tenth of the travel beyond every
+    recording, training and held-out; the plausible range and the reach stay the training's."""
+    from hydrocli.diagnose.workers import withdraw_idle_stops
+    from hydrocli.model.builder import build_model
+    net = load_netlist(ROOT / "machines" / "rotary_drive.yaml")
+    ctx = Context(net, set(), {"arm_node": (0.0, 0.52)}, {}, {}, recorded_range={"arm_node": (-0.80, 0.52)})
+    stop = next(c for c in catalogue(ctx)[0] if c.effect == "end_stop")
+    lo, hi = stop.params[0], stop.params[1]
+    assert lo.bounds[0] == pytest.approx(-0.80 - 0.052) and lo.plausible[0] == pytest.approx(-0.26)
+    assert hi.bounds[1] == pytest.approx(0.52 + 0.26)           # the training's half travel is further
+    # a fit that leaves the stops where they started (never pressed): withdrawn to those bounds
+    model = build_model(stop.build(net))
+    names = [p.name for p in stop.params]
+    res = SimpleNamespace(p=model.p0.copy(), names=names, estimates=None, cost=1.0)
+    for prm in stop.params:
+        res.p[model.param_index(prm.name)] = prm.start
+    obj = SimpleNamespace(cost=lambda p: 1.0)
+    stops = [{"name": q.name, "start": q.start, "seen": q.seen, "bounds": q.bounds, "scale": q.scale}
+             for q in stop.params if q.seen]
+    assert withdraw_idle_stops(obj, model, res, stops) == ["vane.theta_min", "vane.theta_max"]
+    assert res.p[model.param_index("vane.theta_min")] < -0.80
+    # without held-out travel beyond the training's, the bounds are as before
+    plain = next(c for c in catalogue(Context(net, set(), {"arm_node": (0.0, 0.52)}, {}, {}))[0] if c.effect == "end_stop")
+    assert plain.params[0].bounds[0] == pytest.approx(-0.26)
+
+
 def test_an_unexplained_mismatch_says_when_held_out_positions_leave_the_training_range():
     """A stop touched only in the held-out recording cannot be found by fitting the training
     one: the summary says where the held-out data go beyond training, and only then."""

@@ -162,3 +162,13 @@ def test_a_sensors_own_lag_is_not_tested_on_windows_that_start_it_on_its_reading
     assert any(c.component.endswith("_sensor") for c in lags)
     tested = short_horizon.state_free(cands, texts, model, str(LIFT))
     assert {c.effect for c in tested} == {"stribeck_friction"}
+
+
+def test_a_law_whose_whole_record_model_leaves_the_recorded_travel_is_not_named():
+    """Positions and angles (not pressures or speeds) must stay within TRAVEL_ESR over the whole
+    held-out record: the dev lifts' breakaways kept x within 0.022 %; a valve overlap that won
+    the windows of a lift with a delayed command ran x from 29 % to 190 %."""
+    kinds = {"P1": "pressure", "x": "position", "v": "velocity", "theta": "angle"}
+    assert short_horizon.wandered({"P1": 5.3, "x": 0.0025, "v": 5.5}, kinds) == []
+    assert short_horizon.wandered({"P1": 88.0, "x": 190.0, "v": 103.0}, kinds) == ["x"]
+    assert short_horizon.wandered({"P1": 1.0, "theta": 1.5}, kinds) == ["theta"]

@@ -106,6 +106,9 @@ class Context:
                                                             # by the recording's mask (a clipping sensor)
     residual_peaks_hz: tuple[float, ...] = ()               # where the base fit's residual spectra peak
                                                             # (locate.residual_peaks): a mode it lacks
+    recorded_range: dict[str, tuple[float, float]] = field(default_factory=dict)  # node → (min, max) m over
+                                                            # every recording, training and held-out: a stop
+                                                            # the training never pressed is withdrawn beyond it
 
     def parts(self, role: str) -> list["Part"]:
         """Every component of the machine that offers ``role``, in file order."""

@@ -186,10 +186,17 @@ class CylinderFamily(Family):
         # (dev seed 64's EHA bumper, 2·10⁶ N/m: contact 1.4 mm, 2.4 % of the travel, inside it;
         # found at 2.06·10⁶ N/m but cut at the old 2 % bound, and the answer was unexplained)
         inside = SOFTEST_DEPTH * span
-        params = [NewParam(lo_n, lo - 0.2 * span, (lo - 0.5 * span, lo + inside),
+        # the outer bounds, where a stop the training never pressed is withdrawn to
+        # (workers.withdraw_idle_stops), lie beyond every recording too: a held-out run that goes
+        # further than training did must not meet a stop nobody saw (held-out seed 76's vane,
+        # trained over 0…0.52 rad against a bumper at 0.5, run to −0.80 rad in the held-out
+        # record: the unpressed lower stop withdrawn to −0.26 rad, validation ESR 139 → 1590 %)
+        out_lo, out_hi = ctx.recorded_range.get(node, rng)
+        outer = (min(lo - 0.5 * span, out_lo - 0.1 * span), max(hi + 0.5 * span, out_hi + 0.1 * span))
+        params = [NewParam(lo_n, lo - 0.2 * span, (outer[0], lo + inside),
                            (lo - 0.5 * span, lo + inside), lo - 0.005 * span, scale=span, reach=reach,
                            seen=seen),
-                  NewParam(hi_n, hi + 0.2 * span, (hi - inside, hi + 0.5 * span),
+                  NewParam(hi_n, hi + 0.2 * span, (hi - inside, outer[1]),
                            (hi - inside, hi + 0.5 * span), hi + 0.005 * span, scale=span, reach=reach,
                            seen=seen),
                   # contact stiffness identified too (log scale): a real stop (Hertz/Hunt–Crossley
