@@ -20,10 +20,10 @@ windows with its own parameters and those of the element it attaches to, next to
 that fits the same base parameters alone. A candidate stands when it predicts the HELD-OUT
 windows better than its control in a one-sided paired t-test over the windows (each window
 restarts from the measurement, so windows are nearly independent), at ``ALPHA`` shared between
-the candidates tested (Bonferroni), removes at least ``MIN_GAIN`` of their error, and improves
-the BIC of the training windows (each window counted as one independent sample), and predicts
-the held-out windows better than holding every output at its measured start (the same paired
-test: a model that cannot beat persistence shows nothing on 50 ms). A sensor's lag is not
+the candidates tested (Bonferroni); when it removes at least ``MIN_GAIN`` of their error; when it
+lowers the BIC of the training windows (each window counted as one independent sample); and when
+it predicts the held-out windows better than holding every output at its measured start (the
+same paired test: a model that cannot beat persistence shows nothing on 50 ms). A sensor's lag is not
 tested (:func:`state_free`). The best such law whose model, run over the whole held-out record,
 still follows the recorded travel (:func:`wandered`) is named; the whole-record ESR it reaches
 is reported as it is, worse or not.
@@ -51,7 +51,7 @@ WINDOW_S = 0.05      # s: a few spool time constants, shorter than a stick–sli
 FC_START_HZ = 100.0  # the measured states at a window's start: low-passed this far (noise vs. a slip's speed)
 ALPHA = 1e-3         # the paired test's level, shared between the candidates tested
 # and the share of the held-out windows' error a named law must remove: a law that fits a sticking
-# rod's breakaway removes most of it (dev lift and counterbalanced lift breakaways: 63–68 %); laws
+# rod's breakaway removes most of it (dev lift and counterbalanced lift breakaways: 44–68 %); laws
 # that merely tune the windows' starts remove a few per cent (a pressure sensor's lag 3–8 %, a leak
 # < 1 %; on a vane pendulum whose missing payload swing has states of its own, every law < 1 %)
 MIN_GAIN = 0.10
