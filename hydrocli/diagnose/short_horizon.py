@@ -290,7 +290,13 @@ def judge_windows(machine: str, model: Model, p: np.ndarray, free: list[str], ba
                      "cost_validation_control": float(ctl["validate"].sum()),
                      "cost_validation": float(f["validate"].sum()),
                      "p_value_persistence": pv_still, "delta_bic": dbic,
-                     "passed": bool(gain >= MIN_GAIN and dbic < 0 and pv < alpha and pv_still < alpha)})
+                     "reasons": [why for failed, why in (
+                         (gain < MIN_GAIN, f"gains {100 * gain:.1f} % < {100 * MIN_GAIN:.0f} % of the held-out windows' error"),
+                         (dbic >= 0, f"ΔBIC of the training windows {dbic:+.0f}"),
+                         (pv >= alpha, f"not better than its control (p = {pv:.2g})"),
+                         (pv_still >= alpha, f"not better than holding the outputs at their first reading (p = {pv_still:.2g})"))
+                         if failed]})
+        rows[-1]["passed"] = not rows[-1]["reasons"]
     rows.sort(key=lambda r: -r.get("gain_validation", -np.inf))
     best = next((r for r in rows if r["passed"]), None)
     return {"window_s": window_s, "windows": int(sum(w.starts.size for w in wva)), "alpha": alpha, "rows": rows,
@@ -354,8 +360,8 @@ def round_(su: Setup, stage: Stage, located: dict, st: Settings, pool=None,
     if best is None:
         top = res["rows"][0] if res["rows"] else None
         if top is not None and not top["passed"]:
-            log(progress, f"  no law predicts the held-out windows materially better (best {top['effect']}: "
-                          f"{100 * top.get('gain_validation', 0.0):.1f} %)")
+            log(progress, f"  no law passes on the windows (best {top['effect']}: "
+                          f"{'; '.join(top.get('reasons') or [top.get('error', '')])})")
         return None, None, record
     c = next(x for x in cands if x.key == best["key"])
     others = [r for r in res["rows"] if r.get("passed") and r["effect"] != c.effect]
