@@ -100,8 +100,9 @@ def test_a_breakaway_that_makes_the_rod_stick_and_slip_is_named_on_the_windows(l
     assert (best["cost_validation_control"] - best["cost_validation"]) > 0.5 * (best["cost_validation_control"] - truth_cost)
     fitted = dict(zip(rows["stribeck_friction@friction"]["names"], rows["stribeck_friction@friction"]["values"]))
     assert 1000.0 < fitted["friction.ks_p"] < 6000.0
+    assert best["reasons"] == []
     for k in keep - {"stribeck_friction@friction"}:
-        assert not rows[k]["passed"]
+        assert not rows[k]["passed"] and rows[k]["reasons"]
 
 
 def test_a_law_named_on_the_windows_is_said_so_in_the_summary():
