@@ -94,6 +94,14 @@ def thinned(w: Windows) -> Windows:
     return Windows(w.exp, w.starts[::2], w.length, w.x0[::2], w.states, w.outputs, w.scale)
 
 
+def _scaled(w: Windows, o: str, seg: slice, yhat: np.ndarray | None) -> np.ndarray:
+    """(ŷ − y)/σ_y of output ``o`` over one window, 0 where the recording's mask sets a sample
+    aside or a value is missing; ``FAILED`` throughout when the model could not be simulated."""
+    y = w.exp.measured[o][seg]
+    r = np.full(y.shape, FAILED) if yhat is None else (yhat - y) / w.scale[o]
+    return np.where(np.isfinite(r) & used(w.exp, o)[seg], r, 0.0)
+
+
 def window_residuals(model: Model, p: np.ndarray, ws: list[Windows]) -> tuple[np.ndarray, np.ndarray]:
     """(the scaled prediction residuals of every window, concatenated; each window's cost):
     r = (ŷ − y)/σ_y per output, over all windows together scaled by 1/√(samples)."""
@@ -109,12 +117,8 @@ def window_residuals(model: Model, p: np.ndarray, ws: list[Windows]) -> tuple[np
                 Y = simulate(model, w.exp.inputs, tw, p=p, x0=w.x0[k, order], opts=OPTS).Y
             except HydroError:
                 Y = None
-            parts = []
-            for o in w.outputs:
-                y = w.exp.measured[o][seg]
-                r = (np.full(y.shape, FAILED) if Y is None else (Y[:, col[o]] - y) / w.scale[o])
-                parts.append(np.where(np.isfinite(r) & used(w.exp, o)[seg], r, 0.0))
-            r = np.concatenate(parts) / np.sqrt(total)
+            r = np.concatenate([_scaled(w, o, seg, None if Y is None else Y[:, col[o]]) for o in w.outputs]) \
+                / np.sqrt(total)
             rs.append(r)
             costs.append(float(r @ r))
     return np.concatenate(rs), np.array(costs)
@@ -182,12 +186,9 @@ def persistence_costs(ws: list[Windows]) -> np.ndarray:
     for w in ws:
         for s0 in w.starts:
             seg = slice(s0, s0 + w.length + 1)
-            c = 0.0
-            for o in w.outputs:
-                y = w.exp.measured[o][seg]
-                r = np.where(np.isfinite(y) & used(w.exp, o)[seg], (y - y[0]) / w.scale[o], 0.0)
-                c += float(r @ r)
-            out.append(c / total)
+            r = np.concatenate([_scaled(w, o, seg, np.full(w.length + 1, w.exp.measured[o][s0]))
+                                for o in w.outputs])
+            out.append(float(r @ r) / total)
     return np.array(out)
 
 
