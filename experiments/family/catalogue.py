@@ -128,6 +128,12 @@ FORMS = {
                           {"m_p": 1}),
         "tip_spring_mass": (F.TangentialSpringPayload,
                             {"rotary": {"m_p": 3.0, "r": 0.6, "k": 170.0, "c": 1.5}}, {"m_p": 1}),
+        # a hook load on the lifting cylinder's rope (session 40): part of the load bounces
+        "rope_bounce": (F.RopeBouncePayload, _per({"m_frac": 0.3, "f_hz": 1.2, "zeta": 0.01}, None, None,
+                                                  machines=("lift", "lift_cbv")), {"m_frac": 1}),
+        "sheave_friction": (F.SheaveFrictionPayload,
+                            _per({"m_frac": 0.4, "f_hz": 1.8, "zeta": 0.005, "mu": 0.003}, None, None,
+                                 machines=("lift", "lift_cbv")), {"m_frac": 1}),
     },
     "end_stop": {
         "hunt_crossley": (C.EndStop, _per({"x_stop": 0.34, "k": 1e11, "lam": 15.0},
@@ -154,7 +160,7 @@ FORMS = {
     },
 }
 
-LIMITS = {"alpha0": (0.0, 0.9), "frac_p": (0.05, 0.9)}
+LIMITS = {"alpha0": (0.0, 0.9), "frac_p": (0.05, 0.9), "m_frac": (0.002, 0.85)}
 
 # truth parameters the effect needs ZEROED in the truth base, and the machine-file edits that
 # remove the same term from the case's base.yaml: machine -> effect -> [(truth key, yaml key,

@@ -314,7 +314,7 @@ def test_rotary_payload_candidate_is_a_new_module_found_by_the_catalogue(tmp_pat
     from hydrocli.diagnose.candidates import FAMILIES
     from hydrocli.diagnose.candidates import payload
     from hydrocli.model.builder import build_model
-    assert any(isinstance(f, payload.RotaryPayloadFamily) for f in FAMILIES)
+    assert any(isinstance(f, payload.PayloadFamily) for f in FAMILIES)
     net = load_netlist_text(ROTARY, str(tmp_path / "vane.yaml"))
     ctx = Context(net, set(), {}, {"p1": "pressure"}, {"u": 0.0})
     cands, _ = catalogue(ctx)
@@ -334,6 +334,47 @@ def test_rotary_payload_candidate_is_a_new_module_found_by_the_catalogue(tmp_pat
     assert freqs == pytest.approx([0.498, 1.576, 4.070], rel=1e-3) and kp.basins
     for k, c_ in zip(kp.shapes, cp.shapes):
         assert c_ == pytest.approx(2 * 0.05 * math.sqrt(k * jprobe))
+
+
+def test_a_cylinders_payload_rings_on_its_rope_at_its_own_frequency():
+    """Session 40: a load hanging on a rope under a lifting cylinder is the same identified
+    spring–mass–damper as the vane's swing (until then a cylinder's rope was fixed at 0.5 Hz,
+    undamped and unidentified). Closed form: with the valve shut the held load is ~50× stiffer
+    than the rope, so a payload m_p on a rope k, released 2 mm off its rest, rings at
+    √(k/m_p)/2π and decays at ζ = c/(2√(k·m_p)); the load barely moves."""
+    from hydrocli.diagnose import augment as A
+    from hydrocli.experiments.experiment import Experiment
+    from hydrocli.experiments.initial import initial_state
+    from hydrocli.solve.simulate import InputTable, SolverOptions, simulate
+    net = load_netlist(ROOT / "machines" / "luffing_cylinder.yaml")
+    ctx = Context(net, set(build_model(net).free_params), residual_peaks_hz=(1.22, 30.0))
+    c = next(c for c in catalogue(ctx)[0] if c.effect == "payload_swing")
+    names = [q.name for q in c.params]
+    assert [q.name.split(".")[1] for q in c.params] == ["m", "k", "c"] and c.component == "cylinder"
+    jprobe, kp = c.params[0].probe, c.params[1]
+    freqs = [math.sqrt(k / jprobe) / (2 * math.pi) for k in kp.shapes]
+    assert freqs == pytest.approx([1.576, 4.070, 1.22], rel=1e-3)      # 30 Hz is no rope's bounce
+    mp, k, cd = 500.0, 5.0e4, 2 * 0.02 * math.sqrt(5.0e4 * 500.0)          # 1.59 Hz, ζ = 2 %
+    aug = c.build(net)
+    rope = names[1].split(".")[0]
+    aug = A.set_initial(aug, {f"{rope}.dF": 2e-3 * k})
+    model = build_model(aug)
+    p = model.param_vector(dict(zip(names, (mp, k, cd))))
+    t = np.arange(0.0, 4.0, 1e-3)
+    u = np.zeros((1, len(model.input_names)))
+    u[0, model.input_names.index("Ps")] = 1.6e7
+    e = Experiment("rest", "rest.csv", InputTable(np.array([0.0]), u), t, measured={"x": np.full(t.size, 0.2)})
+    tr = simulate(model, e.inputs, t, p=p, x0=initial_state(model, e, p), opts=SolverOptions(rtol=1e-8))
+    F = tr.X[:, model.state_index(f"{rope}.dF")]
+    up = np.flatnonzero((F[:-1] < 0) & (F[1:] >= 0))
+    tz = t[up] - F[up] / (F[up + 1] - F[up]) * 1e-3
+    f_w = math.sqrt(k / mp) / (2 * math.pi)
+    assert 1.0 / np.mean(np.diff(tz)) == pytest.approx(f_w * math.sqrt(1 - 0.02 ** 2), rel=0.005)
+    peaks = [np.abs(F[a:b]).max() for a, b in zip(up[:-1], up[1:])]
+    zeta = math.log(peaks[0] / peaks[-1]) / (2 * math.pi * (len(peaks) - 1))
+    assert zeta == pytest.approx(0.02, rel=0.05)
+    x = tr.Y[:, model.output_names.index("x")]
+    assert np.abs(x - x[0]).max() < 0.05 * 2e-3
 
 
 def test_a_swing_the_residual_shows_is_a_start_of_the_payload_candidate(tmp_path):

@@ -149,3 +149,46 @@ def test_rope_pendulum_payload_conserves_energy():
     E = T + V
     assert np.ptp(th) > 0.3 and np.ptp(ph) > 0.2          # it swings
     assert np.ptp(E) < 1e-6 * abs(E[0])
+
+
+@pytest.mark.parametrize("form", ["RopeBouncePayload", "SheaveFrictionPayload"])
+def test_hanging_payload_shares_the_weight_and_bounces_on_its_rope(form):
+    """A load held by a constant force equal to its weight W (an ideal cylinder), part of it
+    (m_frac) hanging on the rope: at the rope's static stretch nothing moves (the payload's
+    weight is part of W, not added); released 2 mm off it, load and payload bounce at
+    sqrt(k (1/m_p + 1/m_r)) (two free masses on a spring, k = m_p (2 pi f)^2) about a
+    centre of mass that stays put; the sheave form's dry friction mu T takes 4 mu T / k of
+    amplitude per cycle (Coulomb damping, linear decay)."""
+    from types import SimpleNamespace
+
+    from scipy.integrate import solve_ivp
+
+    from experiments.family.truth import forms as F
+    mr, W = 1000.0, 1000.0 * G
+    sheave = form.startswith("Sheave")
+    params = {"m_frac": 0.3, "f_hz": 2.0, "zeta": 0.0, **({"mu": 0.0005} if sheave else {})}
+    eff = getattr(F, form)(**params)
+    model = SimpleNamespace(p={"m": mr, "W": W}, n_base=2)
+    mp = 0.3 * mr
+    k = mp * (2 * math.pi * 2.0) ** 2
+
+    def rhs(t, y):
+        dy = [y[1], 0.0, 0.0, 0.0]
+        dy[1] = eff.piston_accel(model, y, W, -W, 0.0, dy)
+        return dy
+    t = np.linspace(0, 4.0, 8001)
+    for ds in (0.0, 2e-3):
+        sol = solve_ivp(rhs, (0, 4.0), [0.3, 0.0, ds, 0.0], t_eval=t, rtol=1e-10, atol=1e-12, max_step=1e-3)
+        x, s = sol.y[0], sol.y[2]
+        x_cm = x - (mp / mr) * (s - s[0])
+        assert np.abs(x_cm - 0.3).max() < 1e-9
+        if ds == 0.0:
+            assert np.abs(s).max() < 1e-12 and np.abs(x - 0.3).max() < 1e-12
+            continue
+        f = math.sqrt(k * (1 / mp + 1 / (mr - mp))) / (2 * math.pi)
+        up = np.flatnonzero((s[:-1] < 0) & (s[1:] >= 0))
+        assert len(up) >= 6
+        assert 1.0 / np.mean(np.diff(t[up])) == pytest.approx(f, rel=5e-3)
+        peaks = [s[a:b].max() for a, b in zip(up[:-1], up[1:])]
+        loss = 4 * 0.0005 * 0.3 * W / k if sheave else 0.0          # amplitude lost per cycle
+        assert np.diff(peaks) == pytest.approx(-loss * np.ones(len(peaks) - 1), abs=0.05 * 4 * 0.0005 * 0.3 * W / k)

@@ -459,3 +459,59 @@ class TangentialSpringPayload(Effect):
 
     def atol(self, name):
         return 1e-8
+
+
+class _HangingPayload(Effect):
+    """A fraction m_frac of the lifted load hangs on a rope under it (the rest stays rigid
+    on the rod; the total weight W is unchanged, so the effect is the bounce alone). State s:
+    the rope's stretch beyond its static one; tension T = m_frac W + rope(s, s'), clipped at
+    0 (a rope cannot push). Load: (1 − m_frac) m ẍ = Fp − Ff + F + m_frac W − T; payload:
+    m_frac m ÿ_p = T − m_frac W; s'' = ẍ − ÿ_p. Position and speed are measured on the rod."""
+    name = "payload_swing"
+
+    def setup(self, model):
+        model.layout.add("s_rope", "sd_rope")
+
+    def init_state(self, model, y, x0, P0):
+        y[model.n_base] = y[model.n_base + 1] = 0.0
+
+    def rope(self, model, s, sd, W_p):
+        raise NotImplementedError
+
+    def piston_accel(self, model, y, Fp, F, Ff, dy):
+        p, i, m = self.params, model.n_base, model.p["m"]
+        mp, W_p = p["m_frac"] * m, p["m_frac"] * model.p["W"]
+        s, sd = y[i], y[i + 1]
+        T = max(W_p + self.rope(model, s, sd, W_p), 0.0)
+        a = (Fp - Ff + F + W_p - T) / (m - mp)
+        dy[i] = sd
+        dy[i + 1] = a - (T - W_p) / mp
+        return a
+
+    def _k_c(self, model):
+        p = self.params
+        mp = p["m_frac"] * model.p["m"]
+        w = 2.0 * math.pi * p["f_hz"]
+        return mp * w * w, 2.0 * p["zeta"] * mp * w
+
+    def atol(self, name):
+        return 1e-8
+
+
+class RopeBouncePayload(_HangingPayload):
+    form = ("hook load (fraction m_frac of the lifted mass) on an elastic rope under the rod: "
+            "LINEAR rope spring-damper at f_hz with damping ratio zeta, slack-capable")
+
+    def rope(self, model, s, sd, W_p):
+        k, c = self._k_c(model)
+        return k * s + c * sd
+
+
+class SheaveFrictionPayload(_HangingPayload):
+    form = ("hook load on a multi-fall rope reeved over sheaves: rope spring at f_hz, damped by "
+            "the sheaves' DRY friction, proportional to the tension (mu T tanh(s'/1 mm/s)), "
+            "plus a little viscous zeta")
+
+    def rope(self, model, s, sd, W_p):
+        k, c = self._k_c(model)
+        return k * s + c * sd + self.params["mu"] * (W_p + k * s) * math.tanh(sd / 1e-3)

@@ -7,8 +7,7 @@ elements found by role for the moving node's domain: a load (mass or inertia), a
   small mass; position/velocity outputs read the load side (seed 002 §4; Jelali & Kroll §3.6).
 * structural_flexibility: the cylinder body sits on a compliant structure (a frame mass on
   a spring–damper to ground) instead of rigid ground.
-* payload_swing: a pendulum payload of mass m_p on a rope of length L; for small angles it
-  acts on the node as a mass on a spring k = m_p·g/L (plus damping).
+(A payload swinging or bouncing on the load is candidates/payload.py.)
 """
 from __future__ import annotations
 
@@ -36,7 +35,7 @@ HC_MAX = 1e6
 
 
 class MechanicsFamily(Family):
-    effects = ("load_compliance", "structural_flexibility", "payload_swing")
+    effects = ("load_compliance", "structural_flexibility")
     compliances = frozenset({"load_compliance", "structural_flexibility"})
 
     def candidates(self, ctx: Context):
@@ -48,13 +47,8 @@ class MechanicsFamily(Family):
             m = _inertia(ctx, loads[0]) if loads else None
             if not loads:
                 out.append(Skipped("load_compliance", f"no load (mass or inertia) on the moving node '{node}' of '{act.name}'"))
-                out.append(Skipped("payload_swing", f"no load on the moving node '{node}' of '{act.name}'"))
             else:
                 out.append(self._compliance(ctx, act, node, dom, m))
-                if dom == Domain.TRANSLATIONAL:
-                    out.append(self._payload(ctx, node, m))
-                else:
-                    out.append(Skipped("payload_swing", f"a swinging payload on the rotary '{node}' is not modelled"))
             out.append(self._structure(ctx, act, body, dom, m if m is not None else (100.0 if dom == Domain.TRANSLATIONAL else 1.0)))
         return out or [Skipped(e, "no actuator in the machine") for e in self.effects]
 
@@ -118,21 +112,6 @@ class MechanicsFamily(Family):
         return Candidate("load_compliance", act.name, params,
                          build, "force", f"elastic coupling between the moving part of '{act.name}' and its load, "
                                          "with the joint's dry friction (motion measured on the load side)")
-
-    @staticmethod
-    def _payload(ctx: Context, rod: str, m: float):
-        node = A.unique_name(ctx.net, f"{rod}_payload")
-        pm, sp, dm = (A.unique_name(ctx.net, f"payload_{s}") for s in ("mass", "rope", "damper"))
-        mp = 0.3 * m
-
-        def build(net):
-            net = A.add(net, pm, "mass", {"m": node}, {"m": 1e-3 * m})
-            net = A.add(net, sp, "spring", {"a": rod, "b": node}, {"k": mp * G / 1.0})
-            net = A.add(net, dm, "damper", {"a": rod, "b": node}, {"c": 0.05 * mp * (G / 1.0) ** 0.5})
-            return A.free(net, f"{pm}.m", 1e-3 * m, (1e-4 * m, 2.0 * m), True)
-        return Candidate("payload_swing", rod, [NewParam(f"{pm}.m", 1e-3 * m, (1e-4 * m, 2 * m), (0.02 * m, 2 * m),
-                                                         0.3 * m, True)],
-                         build, "force", f"a swinging payload (pendulum, L = 1 m) hanging on '{rod}'")
 
     @staticmethod
     def _structure(ctx: Context, act: Part, body: str | None, dom: Domain, m: float):

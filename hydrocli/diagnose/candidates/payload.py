@@ -1,7 +1,8 @@
-"""A swinging payload on a ROTARY drive (a load hanging on a rope from an arm: a harvester's
-head, a crane's hook seen from the slewing or luffing joint).
+"""A payload hanging on the moved load, on a rotary drive or a cylinder (a load on a rope
+from an arm: a harvester's head, a crane's hook seen from the slewing or luffing joint; a hook
+load bouncing on the rope under a lifting cylinder).
 
-A payload of mass m_p on a rope of length L hanging at radius r from the joint, for small
+Rotary: a payload of mass m_p on a rope of length L hanging at radius r from the joint, for small
 swing angles, is a tangential spring–mass on the arm: the rope's restoring force
 m_p·g·s/L on the tangential offset s = r·(φ − θ) gives, in the joint's coordinates, an inertia
 J_p = m_p·r² coupled to the arm by a torsion spring k = m_p·g·r²/L = J_p·g/L (Meirovitch,
@@ -15,6 +16,12 @@ of critical, and the swing is tried at three frequencies (rope lengths 1 m, 10 c
 the 0.5 Hz start alone the fit let the spring go slack and nothing was found), and at the
 frequencies where the base fit's residual spectra peak: a lightly damped swing is a narrow
 basin (a rope payload swinging at 0.70 Hz, started at 0.5 Hz, fitted a 15 Hz spring).
+
+Translational: the payload m_p on a rope of stiffness k (its weight is already in the load's
+force) bounces on the rope at √(k/m_p), or, on a luffing boom seen from its cylinder, swings at
+√(g/L); either is a spring–mass–damper on the moved node, the same three identified parameters
+and the same starts. (Until session 40 a cylinder's payload had its rope fixed at 0.5 Hz and
+no damping: any other swing could not be found.)
 """
 from __future__ import annotations
 
@@ -33,21 +40,19 @@ ZETA = 0.05          # damping ratio of the start values
 F_RANGE = ((G / 50.0) ** 0.5 / (2 * math.pi), (G / 0.005) ** 0.5 / (2 * math.pi))
 
 
-class RotaryPayloadFamily(Family):
+class PayloadFamily(Family):
     effects = ("payload_swing",)
 
     def candidates(self, ctx: Context):
         out = []
         for act in ctx.parts(R.ACTUATOR):
             node = act.node("motion")
-            if ctx.domain(node) != Domain.ROTATIONAL:
-                continue
             loads = ctx.parts_on(node, R.LOAD)
             if not loads:
-                out.append(Skipped("payload_swing", f"no inertia on the rotary node '{node}' of '{act.name}'"))
+                out.append(Skipped("payload_swing", f"no load (mass or inertia) on the moving node '{node}' of '{act.name}'"))
                 continue
             out.append(_payload(ctx, act, node, loads[0]))
-        return out
+        return out or [Skipped("payload_swing", "no actuator in the machine")]
 
 
 def _payload(ctx: Context, act: Part, node: str, load: Part) -> Candidate:
@@ -55,9 +60,10 @@ def _payload(ctx: Context, act: Part, node: str, load: Part) -> Candidate:
         J = abs(float(ctx.value(load.param("inertia"))))
     except (KeyError, TypeError, ValueError):
         J = 1.0
-    ltype, lrole = ctx.element(R.LOAD, Domain.ROTATIONAL)
-    stype, srole = ctx.element(R.SPRING, Domain.ROTATIONAL)
-    dtype, drole = ctx.element(R.DAMPER, Domain.ROTATIONAL)
+    dom = ctx.domain(node)
+    ltype, lrole = ctx.element(R.LOAD, dom)
+    stype, srole = ctx.element(R.SPRING, dom)
+    dtype, drole = ctx.element(R.DAMPER, dom)
     swing = A.unique_name(ctx.net, f"{node}_payload")
     pj, rope, loss = (A.unique_name(ctx.net, n) for n in ("payload_inertia", "payload_rope", "payload_damper"))
     jp, kp, cp = f"{pj}.{lrole.param('inertia')}", f"{rope}.{srole.param('stiffness')}", f"{loss}.{drole.param('damping')}"
@@ -84,7 +90,7 @@ def _payload(ctx: Context, act: Part, node: str, load: Part) -> Candidate:
         net = A.add(net, rope, stype, {srole.port("a"): node, srole.port("b"): swing}, {srole.param("stiffness"): k0})
         net = A.add(net, loss, dtype, {drole.port("a"): node, drole.port("b"): swing}, {drole.param("damping"): c0})
         return A.free_new(net, params)
-    return Candidate("payload_swing", act.name, params, build, "force",
-                     f"a payload swinging on a rope (or a flexible tip) from the arm of '{act.name}' "
-                     "(tangential spring–mass–damper)",
-                     variant="rotary")
+    what = ("a payload swinging on a rope (or a flexible tip) from the arm of '{0}' (tangential spring–mass–damper)"
+            if dom == Domain.ROTATIONAL else
+            "a payload hanging on a rope (bouncing or swinging) from the load of '{0}' (spring–mass–damper)")
+    return Candidate("payload_swing", act.name, params, build, "force", what.format(act.name))
