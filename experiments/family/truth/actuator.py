@@ -17,6 +17,14 @@ unchanged) to two new machine types, written by hand with numpy/scipy (no hydroc
 * ``kind = "rotary"``: vane actuator (displacement D = A_A = A_B per rad) on a pendulum
   (inertia J = m, weight moment W): torque D (P1 - P2) - W sin(theta + theta0) - T_f(w);
   x, v are theta, omega (seed 001 eqs. 9-15).
+* ``kind = "winch"``: fixed-displacement hydraulic motor (D = A_A = A_B per rad) turning a
+  hoist drum that holds a hanging load: continuous rotation, so the chamber volumes do NOT
+  change with the angle (V_1 = V10, V_2 = V20), and the load torque is the CONSTANT weight
+  moment -W (W = m_load g r_drum):
+      dP_1/dt = beta (q_A - D w - q_il - q_e1) / V10
+      dP_2/dt = beta (q_B + D w + q_il - q_e2) / V20
+      J dw/dt = D (P1 - P2) - W - T_f(w)
+  (experiments/family/truth/winch.py has the closed forms the tests check).
 
 Pressures absolute [Pa], u and the spool x_v in percent (as eha.py).
 """
@@ -53,7 +61,8 @@ def cbv_flows(p: dict, P_L: float, P_V: float, P_X: float) -> float:
 
 
 class ActuatorTruth(EHATruth):
-    """Right-hand side for the lift cylinder / rotary drive; effects as in concealed."""
+    """Right-hand side for the lift cylinder / rotary drive / hoist winch; effects as in
+    concealed."""
 
     def __init__(self, p: dict, effect=None, inputs=None):
         self.cbv = bool(p.get("cbv", 0))
@@ -66,6 +75,14 @@ class ActuatorTruth(EHATruth):
         if p["kind"] == "rotary":
             return -p["W"] * math.sin(x + p["theta0"])
         return -p["W"]
+
+    def chamber_volumes(self, x: float) -> tuple[float, float]:
+        """V_1, V_2: a cylinder's and a vane's change with the stroke / angle, a motor's
+        (``kind = "winch"``) do not."""
+        p = self.p
+        if p["kind"] == "winch":
+            return p["V10"], p["V20"]
+        return p["V10"] + p["A_A"] * x, p["V20"] - p["A_B"] * x
 
     def initial_state(self, x0: float, P0: float, PB0: float | None = None):
         import numpy as np
@@ -128,8 +145,7 @@ class ActuatorTruth(EHATruth):
             qil += ql
             qe1 += qe1x
             qe2 += qe2x
-        V1 = p["V10"] + AA * x
-        V2 = p["V20"] - AB * x
+        V1, V2 = self.chamber_volumes(x)
         b1 = eff.bulk_modulus(self, P1) if eff is not None else p["beta"]
         b2 = eff.bulk_modulus(self, P2) if eff is not None else p["beta"]
         dy[3] = b1 * (q1 - AA * v - qil - qe1) / V1
@@ -151,7 +167,7 @@ class ActuatorTruth(EHATruth):
 
     def default_atol(self):
         a = super().default_atol()
-        if self.p["kind"] == "rotary":
+        if self.p["kind"] in ("rotary", "winch"):
             a[5], a[6] = 1e-7, 1e-6
         if self.cbv:
             a[9] = 10.0

@@ -252,10 +252,21 @@ class EdgeAsymmetry(Effect):
         if xv >= 0.0:
             a = Kv * xv / 100.0
             qa = g["g_PA"] * a * flow_law(Ps - P1, dl)
-            return qa, -g["g_BT"] * a * flow_law(P2 - Pd, dl), qa
+            return _centre_leak(p, Ps, P1, P2, qa, -g["g_BT"] * a * flow_law(P2 - Pd, dl), qa)
         a = -Kv * xv / 100.0
         qb = g["g_PB"] * a * flow_law(Ps - P2, dl)
-        return -g["g_AT"] * a * flow_law(P1 - Pd, dl), qb, qb
+        return _centre_leak(p, Ps, P1, P2, -g["g_AT"] * a * flow_law(P1 - Pd, dl), qb, qb)
+
+
+def _centre_leak(p, Ps, P1, P2, qa, qb, qs):
+    """A custom valve keeps the base valve's laminar centre leakage G_leak of each edge
+    (eha.EHATruth.valve_flows; the winch's valve has one, the others none: unchanged)."""
+    G = p.get("G_leak", 0.0)
+    if not G:
+        return qa, qb, qs
+    Pd = p["Pd"]
+    return (qa + G * (Ps - P1) - G * (P1 - Pd), qb + G * (Ps - P2) - G * (P2 - Pd),
+            qs + G * (Ps - P1) + G * (Ps - P2))
 
 
 class SolenoidAsymmetry(Effect):
