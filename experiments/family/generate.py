@@ -47,6 +47,14 @@ SENSORS = {
     "rotary": {"P_sigma": 1.5e4, "P_quant": 1.0e3, "P_tau": P_TAU, "x_sigma": 2e-5,
                "x_quant": 9.6e-5, "v_sigma": 5e-3, "v_quant": 1e-4},
 }
+
+
+def sensors_of(mt) -> dict:
+    """The sensor model of a machine type: angle encoder and tachometer on the rotary drive
+    and the winch, position transducer on the cylinders."""
+    return SENSORS["rotary" if mt.nominal.get("kind") in ("rotary", "winch") else "linear"]
+
+
 STOP_MARGIN = {"lift": 1e-3, "lift_cbv": 1e-3, "rotary": 0.01, "eha": 4e-3}   # setpoint beyond the stop: the EHA servo under its
 # external force stops ~2 mm short of a setpoint 1 mm past the stop (its training never touched it)
 ESR_DEF = ("100*var(y_on - y_off)/var(y_on) per signal, noise-free, y_off = same truth and "
@@ -257,7 +265,7 @@ def run_case(machine, effect, form, seed, out_root: Path, duration=20.0) -> dict
     tmp = out_root / machine / f".{cid}.tmp{os.getpid()}"
     shutil.rmtree(tmp, ignore_errors=True)
     tmp.mkdir(parents=True)
-    sens = SENSORS["rotary" if mt.nominal.get("kind") == "rotary" else "linear"]
+    sens = sensors_of(mt)
     summary = {"case": cid, "split": split_of(machine, effect, form, seed)}
     for kind in ("train", "validate"):
         res = cr.run(kind, s)

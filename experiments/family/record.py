@@ -24,7 +24,7 @@ if __package__ in (None, ""):
     sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from experiments.concealed.truth.eha import Inputs
-from experiments.family.generate import FS, PREROLL, SENSORS, CaseRunner, _quant, _truth
+from experiments.family.generate import FS, PREROLL, CaseRunner, _quant, _truth, sensors_of
 
 
 def designed_inputs(case: Path, experiment: Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
@@ -57,7 +57,7 @@ def record(case: Path, experiment: Path, out: Path, seed: int = 5) -> dict:
     model = _truth(mt, cr.p, cr.effect_obj(float(side["effect_scale"])), inputs)
     sol = model.simulate(t_grid, cr.y0(model))
     on = {k: v[n0:] for k, v in model.measured(sol.y).items()}
-    sens = SENSORS["rotary" if mt.nominal.get("kind") == "rotary" else "linear"]
+    sens = sensors_of(mt)
     rng = np.random.default_rng(seed)
     N = len(t)
     meas = {"P1": _quant(on["P1"] + sens["P_sigma"] * rng.standard_normal(N), sens["P_quant"]),
