@@ -12,115 +12,144 @@ from __future__ import annotations
 from experiments.concealed.truth import effects as C
 
 from .truth import forms as F
+from .truth import winch as WN
 
 _ALL = ("lift", "lift_cbv", "rotary", "eha")
 _NO_CBV = ("lift", "rotary", "eha")
 
 
-def _per(lift, rotary, eha, machines=_ALL):
-    table = {"lift": lift, "lift_cbv": lift, "rotary": rotary, "eha": eha}
+def _per(lift, rotary, eha, machines=_ALL, winch=None):
+    """{machine: params} of one form; ``winch`` (keyword, optional) adds the hoist winch's
+    parameters to the machines listed (a form without them is not carried by the winch)."""
+    table = {"lift": lift, "lift_cbv": lift, "rotary": rotary, "eha": eha, "winch": winch}
+    if winch is not None:
+        machines = tuple(machines) + ("winch",)
     return {m: table[m] for m in machines}
+
+
+def _same(params, winch=None):
+    """One parameter set for every machine (valve, command and sensor effects, in % and s);
+    the winch's own when given."""
+    return _per(params, params, params, winch=params if winch is None else winch)
 
 
 FORMS = {
     "internal_leakage": {
-        "laminar": (F.LaminarInternalLeakage, _per({"c": 3e-12}, {"c": 5e-13}, {"c": 2e-11}), {"c": 1}),
+        "laminar": (F.LaminarInternalLeakage, _per({"c": 3e-12}, {"c": 5e-13}, {"c": 2e-11}, winch={"c": 5e-13}),
+                    {"c": 1}),
         "orifice": (C.InternalLeakage, _per({"K_t": 7.5e-9, "dp_t": 2e5}, {"K_t": 1e-9, "dp_t": 2e5},
-                                            {"K_t": 2.5e-8, "dp_t": 2e5}), {"K_t": 1}),
+                                            {"K_t": 2.5e-8, "dp_t": 2e5}, winch={"K_t": 6.8e-10, "dp_t": 2e5}),
+                    {"K_t": 1}),
     },
     "external_leakage": {
-        "rod_seal_laminar": (F.RodSealLeakage, _per({"c": 3e-12}, {"c": 5e-13}, {"c": 2e-11}), {"c": 1}),
+        "rod_seal_laminar": (F.RodSealLeakage, _per({"c": 3e-12}, {"c": 5e-13}, {"c": 2e-11}, winch={"c": 5.7e-13}),
+                             {"c": 1}),
         "orifice_both": (C.ExternalLeakage, _per({"K_e1": 7e-9, "K_e2": 3e-9, "dp_t": 1e5},
                                                  {"K_e1": 9e-10, "K_e2": 4e-10, "dp_t": 1e5},
-                                                 {"K_e1": 1.1e-8, "K_e2": 4e-9, "dp_t": 1e5}),
+                                                 {"K_e1": 1.1e-8, "K_e2": 4e-9, "dp_t": 1e5},
+                                                 winch={"K_e1": 6.7e-10, "K_e2": 2.9e-10, "dp_t": 1e5}),
                          {"K_e1": 1, "K_e2": 1}),
     },
     "viscous_friction": {
-        "linear": (F.LinearViscous, _per({"b": 6000.0}, {"b": 0.5}, {"b": 12000.0}), {"b": 1}),
+        "linear": (F.LinearViscous, _per({"b": 6000.0}, {"b": 0.5}, {"b": 12000.0}, winch={"b": 8.5}), {"b": 1}),
         "shear_thinning": (F.ThinningViscous, _per({"b": 6000.0, "v1": 0.02}, {"b": 0.5, "v1": 0.3},
-                                                   {"b": 12000.0, "v1": 0.02}), {"b": 1}),
+                                                   {"b": 12000.0, "v1": 0.02}, winch={"b": 10.0, "v1": 1.0}),
+                           {"b": 1}),
     },
     "coulomb_friction": {
         "tanh_wide": (F.TanhCoulomb, _per({"Fc": 550.0, "v_c": 0.004}, {"Fc": 2.0, "v_c": 0.04},
-                                          {"Fc": 1100.0, "v_c": 0.004}), {"Fc": 1}),
+                                          {"Fc": 1100.0, "v_c": 0.004}, winch={"Fc": 6.8, "v_c": 0.05}),
+                      {"Fc": 1}),
         "atan_asym": (F.AtanCoulomb, _per({"Fc_p": 500.0, "Fc_m": 600.0, "v_c": 0.002},
                                           {"Fc_p": 2.0, "Fc_m": 2.4, "v_c": 0.02},
-                                          {"Fc_p": 380.0, "Fc_m": 480.0, "v_c": 0.002}),
+                                          {"Fc_p": 380.0, "Fc_m": 480.0, "v_c": 0.002},
+                                          winch={"Fc_p": 6.5, "Fc_m": 7.8, "v_c": 0.02}),
                       {"Fc_p": 1, "Fc_m": 1}),
     },
     "stribeck_friction": {
         "gaussian": (C.StribeckFriction, _per({"Fs_p": 800.0, "Fs_m": 600.0, "vs_p": 0.006, "vs_m": 0.004},
                                               {"Fs_p": 3.0, "Fs_m": 2.5, "vs_p": 0.05, "vs_m": 0.04},
-                                              {"Fs_p": 600.0, "Fs_m": 450.0, "vs_p": 0.006, "vs_m": 0.004}),
+                                              {"Fs_p": 600.0, "Fs_m": 450.0, "vs_p": 0.006, "vs_m": 0.004},
+                                              winch={"Fs_p": 18.0, "Fs_m": 13.0, "vs_p": 0.1, "vs_m": 0.08}),
                      {"Fs_p": 1, "Fs_m": 1}),
         "lugre": (F.LuGreStribeck, _per({"Fs": 800.0, "vs": 0.005, "F0": 50.0, "s0": 1e8, "s1": 3000.0},
                                         {"Fs": 3.0, "vs": 0.05, "F0": 0.2, "s0": 3e4, "s1": 5.0},
-                                        {"Fs": 600.0, "vs": 0.005, "F0": 40.0, "s0": 1e8, "s1": 2000.0}),
+                                        {"Fs": 600.0, "vs": 0.005, "F0": 40.0, "s0": 1e8, "s1": 2000.0},
+                                        winch={"Fs": 25.0, "vs": 0.1, "F0": 1.2, "s0": 3e5, "s1": 60.0}),
                   {"Fs": 1, "F0": 1}),
     },
     "pressure_dependent_friction": {
         "dp_seal": (F.DiffPressureFriction, _per({"mu": 0.03, "eps2": 0.002}, {"mu": 0.03, "eps2": 0.02},
-                                                 {"mu": 0.22, "eps2": 0.001}), {"mu": 1}),
+                                                 {"mu": 0.22, "eps2": 0.001}, winch={"mu": 0.025, "eps2": 0.02}),
+                    {"mu": 1}),
         "rod_seal": (F.RodSealPressureFriction, _per({"mu": 0.05, "eps2": 0.002}, {"mu": 0.05, "eps2": 0.02},
-                                                     {"mu": 0.1, "eps2": 0.001}), {"mu": 1}),
+                                                     {"mu": 0.1, "eps2": 0.001}, winch={"mu": 0.032, "eps2": 0.02}),
+                     {"mu": 1}),
     },
     "entrained_air": {
         "isothermal_dissolving": (C.EntrainedAir, _per({"alpha0": 0.5, "P_sat": 1.5e7},
                                                        {"alpha0": 0.5, "P_sat": 1.5e7},
-                                                       {"alpha0": 0.8, "P_sat": 1.5e7}), {"alpha0": 1}),
-        "polytropic": (F.PolytropicAir, _per({"alpha0": 0.1}, {"alpha0": 0.1}, {"alpha0": 0.15}),
+                                                       {"alpha0": 0.8, "P_sat": 1.5e7},
+                                                       winch={"alpha0": 0.047, "P_sat": 1.7e7}), {"alpha0": 1}),
+        "polytropic": (F.PolytropicAir, _per({"alpha0": 0.1}, {"alpha0": 0.1}, {"alpha0": 0.15}, winch={"alpha0": 0.013}),
                        {"alpha0": 1}),
     },
     "line_dynamics": {
         "single_T": (C.LineDynamics, _per({"V_h": 4.5e-4, "I": 3.1e7, "R_l": 3.1e8, "R_t": 1e10},
                                           {"V_h": 8.5e-5, "I": 9.2e7, "R_l": 3.8e9, "R_t": 1e12},
                                           {"V_h": 1.7e-4, "I": 1.85e8, "R_l": 7.6e9, "R_t": 1.2e12},
-                                          _NO_CBV),
+                                          _NO_CBV, winch={"V_h": 1.7e-4, "I": 1.3e7, "R_l": 1.3e8, "R_t": 4.3e9}),
                      {"V_h": 1, "I": 1, "R_l": 1, "R_t": 1}),
         "distributed_3": (F.DistributedLines, _per({"V_h": 4.5e-4, "I": 3.1e7, "R_l": 3.1e8},
                                                    {"V_h": 8.5e-5, "I": 9.2e7, "R_l": 3.8e9},
-                                                   {"V_h": 1.7e-4, "I": 1.85e8, "R_l": 7.6e9}, _NO_CBV),
+                                                   {"V_h": 1.7e-4, "I": 1.85e8, "R_l": 7.6e9}, _NO_CBV,
+                                                   winch={"V_h": 1.6e-4, "I": 1.2e7, "R_l": 1.2e8}),
                           {"V_h": 1, "I": 1, "R_l": 1}),
     },
     "valve_overlap": {
-        "rounded": (C.ValveOverlap, _per({"overlap": 1.5, "edge_radius": 0.6}, {"overlap": 1.5, "edge_radius": 0.6},
-                                         {"overlap": 1.5, "edge_radius": 0.6}), {"overlap": 1, "edge_radius": 1}),
-        "sharp_unequal": (F.SharpAsymOverlap, _per({"o_p": 1.5, "o_m": 0.8}, {"o_p": 1.5, "o_m": 0.8},
-                                                   {"o_p": 1.5, "o_m": 0.8}), {"o_p": 1, "o_m": 1}),
+        "rounded": (C.ValveOverlap, _same({"overlap": 1.5, "edge_radius": 0.6},
+                                          {"overlap": 0.42, "edge_radius": 0.17}), {"overlap": 1, "edge_radius": 1}),
+        "sharp_unequal": (F.SharpAsymOverlap, _same({"o_p": 1.5, "o_m": 0.8}, {"o_p": 0.31, "o_m": 0.17}), {"o_p": 1, "o_m": 1}),
     },
     "valve_hysteresis": {
-        "dahl": (F.DahlHysteresis, _per({"h": 0.8, "sigma": 6.0, "eps": 0.5}, {"h": 0.8, "sigma": 6.0, "eps": 0.5},
-                                        {"h": 0.8, "sigma": 6.0, "eps": 0.5}), {"h": 1}),
-        "play": (F.PlayHysteresis, _per({"h": 0.5}, {"h": 0.5}, {"h": 0.5}), {"h": 1}),
+        "dahl": (F.DahlHysteresis, _same({"h": 0.8, "sigma": 6.0, "eps": 0.5},
+                                         {"h": 0.15, "sigma": 6.0, "eps": 0.5}), {"h": 1}),
+        "play": (F.PlayHysteresis, _same({"h": 0.5}, {"h": 0.035}), {"h": 1}),
     },
     "valve_asymmetry": {
-        "four_edges": (F.EdgeAsymmetry, _per(*[{"g_PA": 1.25, "g_BT": 1.15, "g_PB": 0.8, "g_AT": 0.85}] * 3),
+        "four_edges": (F.EdgeAsymmetry, _same({"g_PA": 1.25, "g_BT": 1.15, "g_PB": 0.8, "g_AT": 0.85},
+                                              {"g_PA": 1.08, "g_BT": 1.048, "g_PB": 0.936, "g_AT": 0.952}),
                        {"g_PA": "d", "g_BT": "d", "g_PB": "d", "g_AT": "d"}),
-        "solenoid_gain": (F.SolenoidAsymmetry, _per(*[{"g_p": 1.15, "g_m": 0.88}] * 3),
+        "solenoid_gain": (F.SolenoidAsymmetry, _same({"g_p": 1.15, "g_m": 0.88}, {"g_p": 1.132, "g_m": 0.894}),
                           {"g_p": "d", "g_m": "d"}),
     },
     "input_delay": {
-        "pure": (C.InputDelay, _per(*[{"T_d": 0.01}] * 3), {"T_d": 1}),
-        "lag_cascade": (F.LagCascadeDelay, _per(*[{"T_d": 0.015}] * 3), {"T_d": 1}),
+        "pure": (C.InputDelay, _same({"T_d": 0.01}, {"T_d": 0.005}), {"T_d": 1}),
+        "lag_cascade": (F.LagCascadeDelay, _same({"T_d": 0.015}, {"T_d": 0.005}), {"T_d": 1}),
     },
     "load_compliance": {
         "cubic_split_mass": (C.LoadCompliance, _per({"frac_p": 0.35, "k": 2.4e6, "k3": 5e11, "c": 2000.0},
                                                     {"frac_p": 0.35, "k": 1900.0, "k3": 3.8e6, "c": 1.0},
-                                                    {"frac_p": 0.35, "k": 8e5, "k3": 1.6e11, "c": 700.0}),
+                                                    {"frac_p": 0.35, "k": 8e5, "k3": 1.6e11, "c": 700.0},
+                                                    # winch: a torsionally compliant shaft/gearbox
+                                                    winch={"frac_p": 0.2, "k": 1.5e5, "k3": 1e9, "c": 50.0}),
                              {"k": -1, "k3": -1}),
         "linear_dry_joint": (F.FrictionJointCompliance,
                              _per({"frac_p": 0.1, "k": 2.4e6, "c": 500.0, "Fd": 300.0, "vd": 1e-3},
                                   {"frac_p": 0.15, "k": 1900.0, "c": 0.3, "Fd": 1.0, "vd": 0.01},
-                                  {"frac_p": 0.3, "k": 8e5, "c": 200.0, "Fd": 150.0, "vd": 1e-3}),
+                                  {"frac_p": 0.3, "k": 8e5, "c": 200.0, "Fd": 150.0, "vd": 1e-3},
+                                  winch={"frac_p": 0.15, "k": 5.9e4, "c": 3.0, "Fd": 10.0, "vd": 0.01}),
                              {"k": -1}),
     },
     "structural_flexibility": {
         "mount_linear": (F.CompliantMount, _per({"m_b": 300.0, "k_b": 1e7, "c_b": 1.1e4},
                                                 {"m_b": 0.2, "k_b": 3e3, "c_b": 2.0},
-                                                {"m_b": 30.0, "k_b": 5e6, "c_b": 4000.0}), {"k_b": -1}),
+                                                {"m_b": 30.0, "k_b": 5e6, "c_b": 4000.0},
+                                                winch={"m_b": 2.0, "k_b": 2.6e5, "c_b": 20.0}), {"k_b": -1}),
         "bushing_cubic": (F.CompliantMount, _per({"m_b": 300.0, "k_b": 1e7, "k3": 1e13, "c_b": 5000.0},
                                                  {"m_b": 0.2, "k_b": 3e3, "k3": 3e7, "c_b": 1.0},
-                                                 {"m_b": 30.0, "k_b": 5e6, "k3": 5e12, "c_b": 2000.0}),
+                                                 {"m_b": 30.0, "k_b": 5e6, "k3": 5e12, "c_b": 2000.0},
+                                                 winch={"m_b": 2.0, "k_b": 2e3, "k3": 2e7, "c_b": 10.0}),
                           {"k_b": -1, "k3": -1}),
     },
     "payload_swing": {
@@ -134,6 +163,11 @@ FORMS = {
         "sheave_friction": (F.SheaveFrictionPayload,
                             _per({"m_frac": 0.4, "f_hz": 1.8, "zeta": 0.005, "mu": 0.003}, None, None,
                                  machines=("lift", "lift_cbv")), {"m_frac": 1}),
+        # the winch's hook load on the rope its drum pays out (rope stiffness EA/L, L = L0 - r theta)
+        "drum_rope": (WN.DrumRopeBounce, {"winch": {"m_frac": 0.85, "r": 0.15, "L0": 6.0, "f_hz": 24.0,
+                                                    "zeta": 0.02}}, {"f_hz": -1}),
+        "drum_sheave": (WN.DrumSheaveFriction, {"winch": {"m_frac": 0.85, "r": 0.15, "L0": 6.0, "f_hz": 16.0,
+                                                          "zeta": 0.005, "mu": 0.003}}, {"f_hz": -1}),
     },
     "end_stop": {
         "hunt_crossley": (C.EndStop, _per({"x_stop": 0.34, "k": 1e11, "lam": 15.0},
@@ -147,16 +181,19 @@ FORMS = {
         "turbulent_accumulator": (C.SupplyPressureDrop,
                                   _per({"K_s": 8.2e-7, "P0": 9.6e6, "Vg0": 1e-4, "n": 1.4, "V_l": 1e-3, "Pv0": 1.6e7},
                                        {"K_s": 2e-8, "P0": 6e6, "Vg0": 5e-6, "n": 1.4, "V_l": 5e-5, "Pv0": 1e7},
-                                       {"K_s": 1e-7, "P0": 6e6, "Vg0": 2e-5, "n": 1.4, "V_l": 2e-4, "Pv0": 1e7}),
+                                       {"K_s": 1e-7, "P0": 6e6, "Vg0": 2e-5, "n": 1.4, "V_l": 2e-4, "Pv0": 1e7},
+                                       winch={"K_s": 4.1e-7, "P0": 9.6e6, "Vg0": 1e-4, "n": 1.4, "V_l": 1e-3,
+                                              "Pv0": 1.6e7}),
                                   {"K_s": -1}),
         "laminar_line": (F.LaminarSupplyLine, _per({"R_s": 1.5e9, "V_l": 1e-3, "C_w": 1e-13, "Pv0": 1.6e7},
                                                    {"R_s": 5e10, "V_l": 5e-5, "C_w": 1e-14, "Pv0": 1e7},
-                                                   {"R_s": 1e10, "V_l": 2e-4, "C_w": 0.0, "Pv0": 1e7}),
+                                                   {"R_s": 1e10, "V_l": 2e-4, "C_w": 0.0, "Pv0": 1e7},
+                                                   winch={"R_s": 8.8e8, "V_l": 1e-3, "C_w": 1e-13, "Pv0": 1.6e7}),
                          {"R_s": 1}),
     },
     "sensor_lag": {
-        "velocity_2nd_order": (C.SensorLag, _per(*[{"f_c": 5.0, "zeta": 0.7}] * 3), {"f_c": -1}),
-        "pressure_1st_order": (F.PressureSensorLag, _per(*[{"tau_p": 0.005}] * 3), {"tau_p": 1}),
+        "velocity_2nd_order": (C.SensorLag, _same({"f_c": 5.0, "zeta": 0.7}, {"f_c": 0.55, "zeta": 0.7}), {"f_c": -1}),
+        "pressure_1st_order": (F.PressureSensorLag, _same({"tau_p": 0.005}, {"tau_p": 0.008}), {"tau_p": 1}),
     },
 }
 
@@ -176,7 +213,7 @@ _FRICTION_ROT = {
     "coulomb_friction": [("kc_p", "tau_c", "{value: 0.0, free: false}"), ("kc_m", None, None)],
 }
 BASE_ZERO = {
-    "lift": _FRICTION_LIN, "lift_cbv": _FRICTION_LIN, "rotary": _FRICTION_ROT,
+    "lift": _FRICTION_LIN, "lift_cbv": _FRICTION_LIN, "rotary": _FRICTION_ROT, "winch": _FRICTION_ROT,
     "eha": {**_FRICTION_LIN,
             "internal_leakage": [("c_il", "c_il", "{value: 0.0, free: false}")],
             "stribeck_friction": [("ks_p", "ks_p", "{value: 0.0, free: false}"),
