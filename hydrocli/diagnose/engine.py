@@ -262,7 +262,9 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         log(progress, "  no candidate passes BIC + validation + plausibility")
         return out
     band = accept.indistinct(v_base, su.noise_total)
-    passing = ranking.simplest(([lead] if lead is not None else []) + (ranking.rank_passing(passing) if passing else []), band)
+    by_bic = min(passing, key=lambda x: x[0]) if passing else None
+    ranked = ranking.rank_passing(passing, band) if passing else []
+    passing = ranking.simplest(([lead] if lead is not None else []) + ranked, band)
     dbic_best, c, f = passing[0]
     close = ALTERNATIVE * min(p[0] for p in passing)   # ΔBIC that the training data barely tell from the best
     alternatives = [{"effect": c2.effect, "component": c2.component, "delta_bic": d2,
@@ -282,6 +284,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
             row.update(passed=True, notes=row.pop("reasons"), reasons=[])
     if rival is not None:
         out.ambiguous = _ambiguous(su, (dbic_best, c, f), rival, texts, progress, st.candidate_evals, band)
+    over = _overruled(by_bic, c, f, band, progress)
+    alternatives = [a for a in alternatives if not (over and a["effect"] == over["effect"])]
     new, f = polished[c.key] if c.key in polished else _polish(su, stage, c, texts[c.key], f, n_eff, st, progress)
     row = next(rw for rw in out.rows if rw["effect"] == c.effect and rw["component"] == c.component)
     out.accepted = {"key": c.key, "effect": c.effect, "component": c.component, "source": "candidate",
@@ -289,12 +293,28 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                     "delta_bic": row["delta_bic"], "esr_train_before": before.esr_train,
                     "esr_train_after": new.esr_train, "esr_validation_before": before.esr_validation,
                     "esr_validation_after": new.esr_validation, "alternatives": alternatives,
+                    **({"held_out_over": over} if over else {}),
                     **({("ended_at_bound" if row.get("bounded") else "below_naming_floor" if row.get("small")
                          else "size_poorly_determined"): row["notes"]} if row.get("notes") else {})}
     out.stage, out.candidate = new, c
     log(progress, f"  accepted {c.effect} on '{c.component}': validation ESR {fmt_esr(before.esr_validation)} "
                   f"→ {fmt_esr(new.esr_validation)}")
     return out
+
+
+def _overruled(by_bic, c, f: dict, band: float, progress) -> dict | None:
+    """The training-BIC winner the held-out data overruled (:func:`ranking.rank_passing`: the
+    named candidate predicts the held-out data better by more than the noise band), or None."""
+    if by_bic is None or by_bic[1].effect == c.effect:
+        return None
+    v, v_bic = residuals.total(f["esr_validation"]), residuals.total(by_bic[2]["esr_validation"])
+    if not v < v_bic - band:
+        return None
+    log(progress, f"  {c.effect} predicts the held-out data better than {by_bic[1].effect} (summed validation ESR "
+                  f"{v:.3g} against {v_bic:.3g} %, noise band {band:.3g} %), which fits the training data better "
+                  f"(ΔBIC {by_bic[0]:.0f}): the held-out data decide")
+    return {"effect": by_bic[1].effect, "component": by_bic[1].component, "delta_bic": by_bic[0],
+            "esr_validation_after": by_bic[2]["esr_validation"], "noise_band": band}
 
 
 def _drawing(su: Setup) -> dict[str, float]:
@@ -371,7 +391,7 @@ def _decide_polished(su: Setup, stage: Stage, win, rival, texts: dict, n_eff: fl
         polished[c.key] = (new, fp)
         again.append((stats.delta_bic(ssr0[c.key], fp["cost"], n_eff, len(c.params)), c,
                       dict(fp, esr_validation=new.esr_validation, p=new.p, param_names=new.model.param_names)))
-    first, second = ranking.simplest(ranking.rank_passing(again), band)
+    first, second = ranking.simplest(ranking.rank_passing(again, band), band)
     log(progress, f"  polished: {first[1].effect} ΔBIC {first[0]:+.0f}, validation "
                   f"{residuals.total(first[2]['esr_validation']):.3g} %; {second[1].effect} ΔBIC {second[0]:+.0f}, "
                   f"validation {residuals.total(second[2]['esr_validation']):.3g} %")

@@ -29,17 +29,33 @@ def dominant(imprecise: list, passing: list, rows: dict, alone: bool = True):
     return None
 
 
-def rank_passing(passing: list) -> list:
+def rank_passing(passing: list, band: float | None = None) -> list:
     """Passing candidates, the accepted one first. BIC ranks them on the training data; among
     those whose ΔBIC is within ``ALTERNATIVE`` of the best (the training data barely tell them
     apart, e.g. seal friction on a gravity-loaded cylinder, whose |p_A − p_B| hardly varies,
-    against Coulomb friction) the held-out data decide: the lowest summed validation ESR."""
+    against Coulomb friction) the held-out data decide: the lowest summed validation ESR.
+
+    With the noise ``band``: a passing candidate that predicts the held-out data better than
+    the head by more than the band goes first, however far behind on training BIC. The two
+    tests then disagree, and a training advantage the held-out record does not confirm is the
+    signature of a law that fits what only the training record holds (a hook load hardly
+    excited in training, 0.12 % there and 0.86 % held out: a compliant mount fitted the
+    training twice as well, ΔBIC −8719 against −4415, and left 0.68 % of held-out error
+    against the payload's 0.16 %, band 0.18 %). On 267 recorded cases with a passing
+    candidate no round was decided this way before the payload cases."""
     passing = sorted(passing, key=lambda x: x[0])
     best = passing[0][0]
     close = [p for p in passing if p[0] <= ALTERNATIVE * best]
     rest = [p for p in passing if p[0] > ALTERNATIVE * best]
     close.sort(key=lambda x: residuals.total(x[2]["esr_validation"]))
-    return close + rest
+    ranked = close + rest
+    if band is not None:
+        head = residuals.total(ranked[0][2]["esr_validation"])
+        better = [p for p in ranked[1:] if residuals.total(p[2]["esr_validation"]) < head - band]
+        if better:
+            first = min(better, key=lambda x: residuals.total(x[2]["esr_validation"]))
+            ranked = [first] + [p for p in ranked if p is not first]
+    return ranked
 
 
 def simplest(ranked: list, band: float) -> list:

@@ -107,6 +107,12 @@ def console_summary(diag) -> str:
             if a.get("below_naming_floor"):
                 lines.append(f"  Its size is below what is usually worth naming ({'; '.join(a['below_naming_floor'])}), "
                              "but it explains these data better than every effect of a nameable size.")
+            if a.get("held_out_over"):
+                h = a["held_out_over"]
+                lines.append(f"  {h['effect'].replace('_', ' ').capitalize()} on '{h['component']}' fits the training "
+                             f"data better (ΔBIC {h['delta_bic']:+.0f}) but predicts the held-out data worse (summed "
+                             f"validation ESR {sum(h['esr_validation_after'].values()):.3g} %, noise band "
+                             f"{h['noise_band']:.3g} %): the held-out data decide.")
             for alt in a.get("alternatives", []):
                 lines.append(f"  Nearly as good: {alt['effect'].replace('_', ' ')} on '{alt['component']}' "
                              f"(ΔBIC {alt['delta_bic']:+.0f}); these data barely tell the two apart.")

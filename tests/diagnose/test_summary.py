@@ -88,3 +88,14 @@ def test_summary_and_report_say_when_nothing_was_screened_at_the_noise_floor():
     del d.data["stopped_at_noise_floor"]
     assert "not screened" not in console_summary(d)
     assert "not screened" not in "\n".join(t.get_text() for ax in diagnosis._ranking(d).axes for t in ax.texts)
+
+
+def test_summary_says_when_the_held_out_data_overruled_the_training_bic():
+    d = _diag([])
+    d.data["accepted"][0]["held_out_over"] = {"effect": "structural_flexibility", "component": "cylinder",
+                                              "delta_bic": -8719.0, "noise_band": 0.175,
+                                              "esr_validation_after": {"P1": 0.25, "v": 0.433}}
+    text = console_summary(d)
+    assert ("Structural flexibility on 'cylinder' fits the training data better (ΔBIC -8719) but predicts the "
+            "held-out data worse (summed validation ESR 0.683 %, noise band 0.175 %): the held-out data decide.") in text
+    assert "held-out data decide" not in console_summary(_diag([]))
