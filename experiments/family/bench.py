@@ -60,7 +60,7 @@ class Excitation:
             else:
                 tgt = float(np.clip(x + rng.choice([-1, 1]) * rng.uniform(*bench["step_small"]), lo, hi))
                 T = rng.uniform(0.3, 0.8)
-            T = max(T, 0.2)
+            T = max(T, bench.get("T_min", 0.2))     # shortest move [s] (the winch: 0.6)
             segs.append((t, T, x, tgt))
             t += T + float(rng.uniform(0.2, 0.8))
             x = tgt

@@ -101,7 +101,10 @@ WINCH_BENCH = {"Ps0": 1.6e7, "ripple_amp": 8e4, "ripple_freq": 30.0, "slow_amp":
                "u_max": 100.0, "x_home": 0.0, "setpoint_range": [-15.0, 15.0],
                "x_bounds": [-40.0, 40.0], "speed_big": [2.0, 4.0], "speed_slow": [0.1, 0.4],
                "step_small": [0.02, 0.15], "step_slow": [0.2, 0.8],
-               "dither_amp": 1.5, "P0": 1.17e7, "PB0": 4.3e6, "Fext_amp": 0.0}
+               "dither_amp": 1.5, "P0": 1.17e7, "PB0": 4.3e6, "Fext_amp": 0.0,
+               # no move shorter than 0.6 s: a short fast move (0.4 rad in 0.2 s) takes a
+               # torque J a ~ W and drives a chamber below 0 bar (the truth has no cavitation)
+               "T_min": 0.6}
 
 EHA_BENCH = {"Ps0": 1.0e7, "ripple_amp": 5.0e4, "ripple_freq": 25.0, "slow_amp": 3e4,
              "droop_gain": 3.0e8, "droop_tau": 0.02, "ctrl_Kp": 500.0, "ctrl_Ki": 250.0,
