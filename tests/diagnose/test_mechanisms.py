@@ -263,8 +263,9 @@ def test_effect_traits_are_declared_by_the_family_that_models_the_effect():
         assert f.switching | f.compliances | f.lags | f.bands <= set(f.effects), type(f).__name__
         assert set(f.effects) <= set(VOCABULARY), type(f).__name__
     assert engine.SWITCHING is SWITCHING and engine.COMPLIANCES is COMPLIANCES
-    # the four ways a machine gets softer than its file: air, a hose, a rod-load link, a mount
-    assert {"entrained_air", "line_dynamics", "load_compliance", "structural_flexibility"} == COMPLIANCES
+    # the four ways a machine gets softer than its file: air, a hose, a rod-load link, a mount;
+    # and a payload on a rope, whose mode moves with its stiffness as theirs do
+    assert {"entrained_air", "line_dynamics", "load_compliance", "structural_flexibility", "payload_swing"} == COMPLIANCES
     assert not COMPLIANCES & SWITCHING
     # the three ways a response is retarded without a new compliance: a delay, a play, a slow reading
     assert shortlist.LAGS is LAGS and {"input_delay", "valve_hysteresis", "sensor_lag"} == LAGS
