@@ -10,6 +10,7 @@ from __future__ import annotations
 from .components import registry
 from .components.base import Component
 from .netlist.loader import FLUID_PROPS, UNIT_KEYS
+from .netlist.sections import INITIAL_RULES
 
 NUMBER_WITH_UNIT = r"^\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?(\s*\S.*)?$"
 _STR = {"type": "string"}
@@ -40,7 +41,11 @@ def machine_schema() -> dict:
             _closed({"unit": _STR, "hold": {"enum": ["linear", "zoh"]}, "description": _STR})]}},
         "outputs": {"type": "object", "additionalProperties": {"oneOf": [
             _STR, _closed({"expr": _STR, "unit": _STR, "description": _STR}, required=["expr"])]}},
-        "initial": {"type": "object", "additionalProperties": {"$ref": "#/$defs/scalar"}},
+        # a value, or a rule naming another state ({same_as: load.x}, {balance: chamber_a.p}, …)
+        "initial": {"type": "object", "additionalProperties": {"oneOf": [
+            {"$ref": "#/$defs/scalar"},
+            *({"type": "object", "properties": {r: _STR}, "required": [r], "additionalProperties": False}
+              for r in INITIAL_RULES)]}},
         "components": {"$ref": "#/$defs/components"},
     }
     return {"$schema": "https://json-schema.org/draft/2020-12/schema",

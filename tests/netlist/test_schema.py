@@ -89,6 +89,7 @@ def test_shipped_machines_validate(schema, path):
     ("components:\n  v: {type: volume, ports: {P: n}, V: true}\n", "matches not exactly one"),
     ("inputs: {u: {unit: bar, hold: cubic}}\n", "inputs.u"),
     ("components:\n  o: {template: t, ports: {P: n}, Kv: 1}\n", ".components.o.Kv: unknown key"),
+    ("initial: {rod.x: {sameas: load.x}}\n", ".initial.rod.x: matches not exactly one"),
 ])
 def test_misspelt_or_wrong_keys_fail(schema, yaml, where):
     errs = validate(_plain(load_text(yaml, "x.yaml")), schema, schema)
@@ -115,3 +116,10 @@ def test_against_jsonschema_when_installed(schema):
     for path in MACHINES:
         assert not list(v.iter_errors(_plain(load_file(path)[0])))
     assert list(v.iter_errors({"components": {"v": {"type": "volume", "ports": {"P": "n"}, "Vv": 1}}}))
+
+
+def test_initial_values_and_rules_validate(schema):
+    """An initial state is a value or a rule naming another state (the loader's INITIAL_RULES)."""
+    doc = load_text('initial: {rod.x: "70 mm", p.p: 5.0e6, load.x: {same_as: rod.x}, valve.xr: {balance: chamber_a.p},'
+                    ' b.x: {output: x}}\n', "x.yaml")
+    assert validate(_plain(doc), schema, schema) == []
