@@ -503,7 +503,11 @@ class _HangingPayload(Effect):
         p = self.params
         mp = p["m_frac"] * model.p["m"]
         w = 2.0 * math.pi * p["f_hz"]
-        return mp * w * w, 2.0 * p["zeta"] * mp * w
+        return mp * w * w * self.stiffening(model), 2.0 * p["zeta"] * mp * w
+
+    def stiffening(self, model) -> float:
+        """The rope's stiffness over its nominal one (1: a rope of fixed length)."""
+        return 1.0
 
     def atol(self, name):
         return 1e-8

@@ -31,7 +31,6 @@ are measured on the drum.
 """
 from __future__ import annotations
 
-import math
 
 from . import forms as F
 
@@ -52,30 +51,20 @@ def rope_length_factor(params: dict, theta: float) -> float:
     return L0 / max(L0 - params["r"] * theta, 0.25 * L0)
 
 
-class _DrumPayload(F._HangingPayload):
-    """The lifts' hanging payload with the rope paid out by the drum: stiffness EA/L."""
-
-    def _k_c(self, model):
-        k, c = super()._k_c(model)
-        return k * rope_length_factor(self.params, model._y[5]), c
-
-
-class DrumRopeBounce(_DrumPayload):
+class DrumRopeBounce(F.RopeBouncePayload):
     form = ("hook load (share m_frac of the drum-referred inertia and weight) on the rope paid "
             "out by the drum: LINEAR rope spring-damper at f_hz (at the rope length L0) with "
             "damping ratio zeta, stiffness EA/L growing as the winch hoists (L = L0 - r theta), "
             "slack-capable")
 
-    def rope(self, model, s, sd, W_p):
-        k, c = self._k_c(model)
-        return k * s + c * sd
+    def stiffening(self, model) -> float:
+        return rope_length_factor(self.params, model._y[5])
 
 
-class DrumSheaveFriction(_DrumPayload):
+class DrumSheaveFriction(F.SheaveFrictionPayload):
     form = ("hook block reeved over sheaves on the drum's rope: rope spring EA/L at f_hz (at L0; "
             "L = L0 - r theta), damped by the sheaves' DRY friction proportional to the tension "
             "(mu T tanh(s'/1e-3 rad/s)) plus a little viscous zeta")
 
-    def rope(self, model, s, sd, W_p):
-        k, c = self._k_c(model)
-        return k * s + c * sd + self.params["mu"] * (W_p + k * s) * math.tanh(sd / 1e-3)
+    def stiffening(self, model) -> float:
+        return rope_length_factor(self.params, model._y[5])
