@@ -92,10 +92,7 @@ WINCH_NOMINAL = {
     "kv_p": 20.0, "kv_m": 20.0, "kc_p": 25.0, "kc_m": 25.0, "ks_p": 0.0, "ks_m": 0.0,
     "taus_p": 0.05, "taus_m": 0.05, "eps": 1e-3, "Pd": 1e5, "dp_lam": 5e4,
 }
-WINCH_PERTURB = {**{k: (_STD, "") for k in ("Kv", "tau_v", "s_max", "V10", "V20", "beta", "m", "W")},
-                 "G_leak": (_TOL, ""),
-                 "kv_p": (_STD, "kv"), "kv_m": (_STD, "kv"), "kc_p": (_STD, "kc"),
-                 "kc_m": (_STD, "kc"), "A_A": (_TOL, "D"), "A_B": (_TOL, "D")}
+WINCH_PERTURB = {**ROT_PERTURB, "G_leak": (_TOL, "")}      # the rotary drive's, plus the centre leakage
 WINCH_BENCH = {"Ps0": 1.6e7, "ripple_amp": 8e4, "ripple_freq": 30.0, "slow_amp": 5e4,
                "droop_gain": 2e8, "droop_tau": 0.03, "ctrl_Kp": 40.0, "ctrl_Ki": 20.0,
                "u_max": 100.0, "x_home": 0.0, "setpoint_range": [-15.0, 15.0],

@@ -120,15 +120,21 @@ def test_every_effect_has_two_forms_on_every_machine_that_carries_it():
 
 
 @pytest.mark.slow
-def test_generator_is_deterministic(tmp_path):
+@pytest.mark.parametrize("machine, effect, form, header", [
+    ("lift", "internal_leakage", "orifice", None),
+    ("winch", "payload_swing", "drum_rope", "t[s],u[%],Ps[Pa],P1[Pa],P2[Pa],theta[rad],w[rad/s]"),
+], ids=["lift", "winch"])
+def test_generator_is_deterministic(tmp_path, machine, effect, form, header):
     a, b = tmp_path / "a", tmp_path / "b"
-    run_case("lift", "internal_leakage", "orifice", 0, a, duration=1.0)
-    run_case("lift", "internal_leakage", "orifice", 0, b, duration=1.0)
+    run_case(machine, effect, form, 0, a, duration=1.0)
+    run_case(machine, effect, form, 0, b, duration=1.0)
     fa = sorted(p.relative_to(a) for p in a.rglob("*") if p.is_file())
     fb = sorted(p.relative_to(b) for p in b.rglob("*") if p.is_file())
     assert fa == fb and len(fa) == 5
     for f in fa:
         assert (a / f).read_bytes() == (b / f).read_bytes(), f
+    if header is not None:
+        assert (a / fa[0].parent / "train.csv").read_text().splitlines()[0] == header
 
 
 def test_rope_pendulum_payload_conserves_energy():

@@ -23,7 +23,7 @@ from scipy.integrate import solve_ivp
 
 from experiments.concealed.truth.eha import Inputs
 from experiments.family import catalogue as cat
-from experiments.family.generate import all_cases, base_machine_text, run_case
+from experiments.family.generate import all_cases, base_machine_text
 from experiments.family.machines import G, MACHINES
 from experiments.family.truth.actuator import ActuatorTruth
 from experiments.family.truth.winch import DrumRopeBounce, DrumSheaveFriction, holding_dp, hydraulic_stiffness
@@ -179,17 +179,3 @@ def test_perturbation_covers_the_fixed_parameters_and_ties_the_displacement():
     p, fac = perturbed_params(mt, np.random.default_rng(3))
     assert p["A_A"] == p["A_B"] and abs(fac["A_A"] - 1.0) <= 0.015
     assert p["kv_p"] == p["kv_m"] and p["kc_p"] == p["kc_m"]
-
-
-@pytest.mark.slow
-def test_generator_is_deterministic_on_a_winch_case(tmp_path):
-    a, b = tmp_path / "a", tmp_path / "b"
-    run_case("winch", "payload_swing", "drum_rope", 0, a, duration=1.0)
-    run_case("winch", "payload_swing", "drum_rope", 0, b, duration=1.0)
-    fa = sorted(p.relative_to(a) for p in a.rglob("*") if p.is_file())
-    fb = sorted(p.relative_to(b) for p in b.rglob("*") if p.is_file())
-    assert fa == fb and len(fa) == 5
-    for f in fa:
-        assert (a / f).read_bytes() == (b / f).read_bytes(), f
-    header = (a / fa[0].parent / "train.csv").read_text().splitlines()[0]
-    assert header == "t[s],u[%],Ps[Pa],P1[Pa],P2[Pa],theta[rad],w[rad/s]"
