@@ -66,3 +66,34 @@ initial: {c1.p: "50 bar", c2.p: "50 bar", arm.theta: 0.2}
     beta_e = _mixture(0.1, 50e5, 1.0)
     assert dp1 == pytest.approx(1e-5 * beta_e / (2e-5 + 5e-6 * 0.2), rel=1e-6)
     assert beta_e < 0.7 * BETA      # the air matters at 50 bar
+
+
+@pytest.mark.parametrize("air, n", [(0.0, 1.4), (0.1, 1.0), (0.05, 1.4)])
+def test_motor_chambers_hold_air_like_the_vanes(air, n):
+    """A motor's chamber volume V_A with entrained air (the same fraction in both chambers:
+    the oil carries it): at rest, a flow q into chamber A raises its pressure at
+    dp/dt = q·β_e(p)/V_A, β_e the mixture's closed form (the oil's β without air); chamber B,
+    at a lower pressure, is softer by its own β_e."""
+    import numpy as np
+    from hydrocli.model.builder import build_model
+    from hydrocli.netlist.loader import load_netlist_text
+    text = f"""
+name: motor_air
+fluid: {{beta: "1.5 GPa", p_tank: "1 bar"}}
+components:
+  pump: {{type: flow_source, ports: {{P: c1}}, Q: 1.0e-5}}
+  pump_b: {{type: flow_source, ports: {{P: c2}}, Q: 1.0e-5}}
+  motor: {{type: hydraulic_motor, ports: {{A: c1, B: c2, shaft: drum_node, body: ground}}, D_m: 8.0e-5,
+          R_m: 1.0e30, R_ex: 1.0e30, V_A: 6.0e-4, V_B: 6.0e-4, air: {air}, air_n: {n}}}
+  drum: {{type: inertia, ports: {{r: drum_node}}, J: 10.0}}
+outputs: {{p1: c1.p}}
+initial: {{c1.p: "120 bar", c2.p: "40 bar"}}
+"""
+    m = build_model(load_netlist_text(text, "motor_air.yaml"))
+    x0 = np.array([{"c1.p": 120e5, "c2.p": 40e5}.get(s, 0.0) for s in m.state_names])
+    dx, *_ = m.numpy_evaluate()(0.0, list(x0), m.p0, [])
+    for node, p in (("c1.p", 120e5), ("c2.p", 40e5)):
+        beta_e = _mixture(air, p, n) if air else BETA
+        assert float(np.asarray(dx[m.state_index(node)])) == pytest.approx(1e-5 * beta_e / 6e-4, rel=1e-6)
+    if air:
+        assert _mixture(air, 40e5, n) < 0.8 * _mixture(air, 120e5, n)   # softer where the pressure is lower

@@ -336,3 +336,29 @@ def test_a_single_rod_cylinder_is_offered_its_rod_seal_loaded_by_the_rod_side(tm
     assert p.name.endswith(".mu_b") and p.name in aug.free_params
     area = aug.p0[aug.param_index(p.name.rsplit(".", 1)[0] + ".A_p")]
     assert area == pytest.approx(5.0265e-3, rel=1e-3)
+
+
+def test_a_motors_air_is_one_fraction_in_its_chambers_or_volumes_where_it_has_none(tmp_path, monkeypatch):
+    """The oil carries its free air into both chambers alike: a motor whose chambers hold oil
+    (the winch's V_A, V_B) is offered ONE air fraction on them with the law's exponent and
+    dissolution pressure as companions (the vane's form); a motor whose lines hold all its oil
+    (V_A = V_B = 0) gets an air-laden volume on each chamber node instead. Both build with
+    their new parameters free (the law itself: tests/components/test_fluid_air.py)."""
+    monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path))
+    winch = Path(__file__).parents[2] / "machines" / "hoist_winch.yaml"
+    base = load_netlist(winch)
+    text = winch.read_text()
+    drawn = text.replace("V_A: {value: 6.0e-4, free: true, bounds: [1.0e-4, 4.0e-3]}", "V_A: 0.0").replace(
+        "V_B: {value: 6.0e-4, free: true, bounds: [1.0e-4, 4.0e-3]}", "V_B: 0.0").replace(
+        "components:\n", "components:\n  hose_a: {type: volume, ports: {P: chamber_1}, V: 6.0e-4}\n"
+                         "  hose_b: {type: volume, ports: {P: chamber_2}, V: 6.0e-4}\n", 1)
+    assert drawn.count("V: 6.0e-4") == 2
+    for net, variant, names in ((base, "", ["motor.air", "motor.air_n", "motor.p_dissolve"]),
+                                (load_netlist_text(drawn, "winch_lines.yaml"), "volume", None)):
+        model = build_model(net)
+        ctx = Context(net, set(model.free_params), {"drum_node": (0.0, 8.0)}, {})
+        air = [c for c in catalogue(ctx)[0] if c.effect == "entrained_air"]
+        assert [c.variant for c in air] == [variant]
+        assert names is None or [p.name for p in air[0].params] == names
+        aug = build_model(air[0].build(net))
+        assert {p.name for p in air[0].params} <= set(aug.free_params)

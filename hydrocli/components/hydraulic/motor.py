@@ -4,7 +4,7 @@ from __future__ import annotations
 from ..base import Component, H, Param, Port, R, VariableSpec
 from ..registry import register
 from .cylinder import end_stop_force
-from .fluid import AIR_PARAMS, cavitation_floor, effective_bulk_modulus, oil_bulk_modulus
+from .fluid import AIR_PARAMS, cavitation_floor, oil_bulk_modulus
 from .. import roles as RL
 from ..roles import role
 
@@ -15,11 +15,12 @@ class HydraulicMotor(Component):
     torque D_m·(p_A − p_B) on the shaft, flow D_m·ω plus internal leakage
     Q_in = (p_A − p_B)/R_m (eq. 8) and external leakage Q_ex = (p − p_drain)/R_ex from each
     chamber (eq. 9). The port nodes need volumes (hoses); optional chamber volumes V_A, V_B
-    add V/β there. Seed 002: R_m = 8e11, R_ex = 2.2e12 N·s/m⁵. The gearbox (N, B_sw) is a
-    separate ``gearbox`` component."""
+    add V/β_e there, β_e with entrained air when ``air`` is set (``fluid.effective_bulk_modulus``,
+    the same free-air fraction in both chambers: the oil carries it), the vane's law. Seed 002:
+    R_m = 8e11, R_ex = 2.2e12 N·s/m⁵. The gearbox (N, B_sw) is a separate ``gearbox`` component."""
 
     type = "hydraulic_motor"
-    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_m", displacements=("D_m",), dead_volumes=("V_A", "V_B"), bulk_modulus="beta"),)
+    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_m", displacements=("D_m",), dead_volumes=("V_A", "V_B"), bulk_modulus="beta", air="air", air_exponent="air_n", air_dissolve="p_dissolve"),)
     family = "hydraulic"
     description = "Fixed-displacement hydraulic motor with internal and external leakage"
     source = "seed 002 Fig. 3, eqs. 5, 8, 9"
@@ -36,6 +37,7 @@ class HydraulicMotor(Component):
         Param("V_A", "m^3", 0.0, "chamber volume A (0: none; the lines carry the capacitance)", min=0.0),
         Param("V_B", "m^3", 0.0, "chamber volume B", min=0.0),
         Param("beta", "Pa", 1.5e9, "oil bulk modulus", fluid="beta", positive=True),
+        *AIR_PARAMS,
     )
     variables = (VariableSpec("w", "rad/s", "shaft speed relative to the housing"),
                  VariableSpec("tau", "N*m", "hydraulic torque D_m·Δp"),
@@ -60,7 +62,9 @@ class HydraulicMotor(Component):
         c.through("body", tau)
         for port, vol in (("A", "V_A"), ("B", "V_B")):
             if c.active(vol):
-                c.capacitance(port, c.param(vol) / effective_bulk_modulus(p.beta, c.across(port), 0.0))
+                cap = c.param(vol) / oil_bulk_modulus(c, c.across(port))
+                c.capacitance(port, cap)
+                cavitation_floor(c, port, cap)
 
 
 @register

@@ -5,9 +5,9 @@ air-in-oil bulk modulus) and end stops.
 
 Where the actuator's spec offers the effect as a parameter (its role's ``internal_leakage``,
 ``external_leakage``, ``air`` or ``stop_*`` slots) the candidate sets it free from its "no
-effect" value; where it does not (a motor's leakage, a vane actuator's air) the candidate adds
-library elements found by role: a laminar restriction between the chambers, restrictions to
-the tank, a small air-laden volume on each chamber."""
+effect" value; where it does not (a motor's leakage; the air of a motor whose lines hold all its
+oil) the candidate adds library elements found by role: a laminar restriction between the
+chambers, restrictions to the tank, a small air-laden volume on each chamber."""
 from __future__ import annotations
 
 import numpy as np
@@ -134,7 +134,7 @@ class CylinderFamily(Family):
         name = act.param("air")
         desc = ("undissolved air lowers the chamber stiffness at low pressure (log scale up to as much air as oil at 1 bar: an "
                 "isentropic fit of isothermal, partly dissolving air needs more)")
-        if name is not None:
+        if name is not None and _holds_oil(ctx, act):
             # the air law's shape is identified with its amount (companions): polytropic exponent
             # between isothermal small bubbles and isentropic, and Henry's-law dissolution
             # (Gholizadeh, Burton & Schoenau 2011): a fixed law fits a real mixture worse than a
@@ -228,6 +228,16 @@ class CylinderFamily(Family):
         diagnosis found 2985 N·m/rad at 0.50002 rad, P's held-out ESR 0.046 % against a noise
         of 0.042 %)."""
         return C_STOP_REF * (ctx.size(act) / REF_SIZE) ** 2
+
+
+def _holds_oil(ctx: Context, act: Part) -> bool:
+    """Whether the actuator's own chambers hold oil its ``air`` can soften: a motor whose
+    chamber volumes are 0 (its lines carry all the capacitance) has none, and its air goes
+    into volumes on the chamber nodes (:func:`_air_volumes`)."""
+    try:
+        return any(ctx.value(n) > 0 for n in act.params("dead_volumes")) or not act.params("dead_volumes")
+    except (KeyError, TypeError, ValueError):
+        return True
 
 
 def _tank_node(ctx: Context) -> str | None:
