@@ -149,7 +149,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     out = Round([], skipped=[{"effect": s.effect, "reason": s.reason} for s in skipped])
     first = _first_gain(accepted)
     later, val = first is not None, residuals.total(stage.esr_validation)
-    if floor is None and not accept.within_reach(val, su.noise_total, later, first) and not must_fit():
+    if (floor is None and not (st.screen_always and round_ == 0)
+            and not accept.within_reach(val, su.noise_total, later, first) and not must_fit()):
         need = accept.need(val, su.noise_total, later=later, first_gain=first)
         log(progress, f"  validation ESR {val:.3g} % is {val - su.noise_total:+.3g} % from the noise floor "
                       f"({su.noise_total:.3g} %): no {'further ' if later else ''}effect can gain "

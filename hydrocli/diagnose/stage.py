@@ -39,6 +39,10 @@ class Settings:
     # when the whole-record rounds name nothing and the held-out error stays above the noise,
     # test the state-free laws on short windows started from the measured state (:mod:`.short_horizon`)
     short_horizon: bool = True
+    # a study setting, not a user's: screen and fit round 1 even when no effect could pass on the
+    # held-out data (:func:`accept.within_reach`), to measure what the best candidates gain on
+    # null cases (tests/benchmarks/acceptance_study.py, the look-elsewhere margin)
+    screen_always: bool = False
 
 
 @dataclass

@@ -8,11 +8,17 @@ factor κ the held-out rule of ``diagnose.accept`` is replayed with the band
 
     need = max(κ · Σ noise ESR, MIN_REL · (val0 − Σ noise ESR))
 
-(κ = 1 is the diagnosis' rule) and every other reason a candidate failed is kept; among the
-round-1 candidates that pass, the lowest ΔBIC is named. Only round 1 is replayed (later
-rounds start from a model the bench did not keep), and val0 is the base's validation ESR
-(the engine uses the better of the base and its control re-fit), so κ = 1 may differ from
-the bench's own answer on a few cases. Dev results only: never run it on held-out results.
+(κ = ``accept.LOOK_ELSEWHERE`` is the diagnosis' rule) and every other reason a candidate
+failed is kept; among the round-1 candidates that pass, the lowest ΔBIC is named. Only round 1
+is replayed (later rounds start from a model the bench did not keep), and val0 is the base's
+validation ESR (the engine uses the better of the base and its control re-fit), so the rule's
+κ may differ from the bench's own answer on a few cases.
+
+The null cases' margin: for each null, the largest held-out gain, as a share of the noise
+floor, of a round-1 candidate that passes everything but the band — what the look-elsewhere
+margin must stay above. A null the engine did not screen (its base already within reach of
+the floor) has no candidates: run the bench with ``--screen-always`` to fit them anyway.
+Dev results only: never run it on held-out results.
 """
 from __future__ import annotations
 
@@ -25,16 +31,30 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from hydrocli.diagnose.accept import MIN_REL  # noqa: E402
+from hydrocli.diagnose.accept import LOOK_ELSEWHERE, MIN_REL  # noqa: E402
+
+
+def other_reasons(cand: dict) -> list[str]:
+    """Why a candidate failed, the held-out band aside: BIC, plausibility, precision, ceiling."""
+    return [r for r in (cand.get("reasons") or []) if "noise band" not in r]
 
 
 def passes(cand: dict, row: dict, kappa: float) -> bool:
-    if [r for r in (cand.get("reasons") or []) if "noise band" not in r]:
-        return False                               # BIC, plausibility, precision, ceiling
+    if other_reasons(cand):
+        return False
     before, noise = row["esr_before"], row.get("noise_validation") or {}
     val0 = sum(before.values())
     floor = sum(noise.get(o, 0.0) for o in before)
     return cand["validation_gain"] > max(kappa * floor, MIN_REL * max(val0 - floor, 0.0))
+
+
+def null_margin(row: dict) -> float | None:
+    """The largest round-1 held-out gain / noise floor of a candidate that passes everything but
+    the band (None: no such candidate was fitted)."""
+    floor = sum((row.get("noise_validation") or {}).get(o, 0.0) for o in row["esr_before"])
+    gains = [c["validation_gain"] for c in row.get("candidates") or [] if c.get("round") == 1
+             and c.get("validation_gain") is not None and not other_reasons(c)]
+    return max(gains) / floor if gains and floor > 0 else None
 
 
 def named(row: dict, kappa: float) -> str:
@@ -45,7 +65,7 @@ def named(row: dict, kappa: float) -> str:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("results", type=Path)
-    ap.add_argument("--kappa", type=float, nargs="+", default=[1.0, 0.5, 0.25, 0.0])
+    ap.add_argument("--kappa", type=float, nargs="+", default=[LOOK_ELSEWHERE, 0.15, 0.1, 0.05, 0.0])
     a = ap.parse_args(argv)
     payload = json.loads(a.results.read_text())
     if payload.get("split") == "heldout":
@@ -55,7 +75,7 @@ def main(argv=None) -> int:
     if not rows:
         print(f"{a.results}: no per-case candidate rows (rerun the bench with this version)", file=sys.stderr)
         return 2
-    ref = {r["case"]: named(r, 1.0) for r in rows}
+    ref = {r["case"]: named(r, LOOK_ELSEWHERE) for r in rows}
     for kappa in a.kappa:
         eff = [r for r in rows if r["effect"] != "none"]
         nulls = [r for r in rows if r["effect"] == "none"]
@@ -66,6 +86,11 @@ def main(argv=None) -> int:
             n = named(r, kappa)
             if n != ref[r["case"]]:
                 print(f"    {r['case']}: {ref[r['case']]} -> {n}{'  (right)' if n == r['effect'] else ''}")
+    margins = sorted(((m, r["case"]) for r in rows if r["effect"] == "none"
+                      for m in [null_margin(r)] if m is not None), reverse=True)
+    print(f"nulls with a candidate passing all but the band: {len(margins)}; largest held-out gain / noise floor:")
+    for m, case in margins[:10]:
+        print(f"    {m:7.4f}  {case}")
     return 0
 
 

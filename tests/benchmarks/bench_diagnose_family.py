@@ -111,13 +111,13 @@ def model_before(data: dict) -> dict:
     return first.get("esr_validation_before") or data.get("esr_validation_base", {})
 
 
-def run_case(folder: Path, jobs: int, progress) -> dict:
+def run_case(folder: Path, jobs: int, progress, screen_always: bool = False) -> dict:
     from hydrocli.diagnose import Settings, diagnose
     t = case_truth(folder)
     t0 = time.perf_counter()
     try:
         d = diagnose(folder / "base.yaml", [folder / "train.csv"], [folder / "validate.csv"],
-                     Settings(jobs=jobs), progress=progress)
+                     Settings(jobs=jobs, screen_always=screen_always), progress=progress)
         data = d.data
         err = None
     except Exception as exc:                      # one failing case must not stop the bench
@@ -250,6 +250,8 @@ def main(argv=None) -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--json", type=Path, default=None, help="results JSON (default DATA/bench_<split>.json)")
     ap.add_argument("--per-case", action="store_true", help="held-out: print and store per-case rows too")
+    ap.add_argument("--screen-always", action="store_true",
+                    help="dev study: fit round 1's candidates even where no effect could pass (null margins)")
     a = ap.parse_args(argv)
     blind = a.split == "heldout" and not a.per_case
     cases = find_cases(a.data, a.split, a.machines, a.effects, None)
@@ -268,7 +270,7 @@ def main(argv=None) -> int:
     out = a.json or (a.data / f"bench_{a.split}.json")
     for k, folder in enumerate(cases, 1):
         prog = None if blind else (lambda m, c=folder.name: print(f"  [{c}] {m}", file=sys.stderr, flush=True))
-        r = run_case(folder, a.jobs, prog)
+        r = run_case(folder, a.jobs, prog, a.screen_always)
         rows.append(r)
         if blind:
             print(f"  {k}/{len(cases)} done", flush=True)

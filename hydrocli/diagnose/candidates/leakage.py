@@ -319,4 +319,3 @@ def _air_volumes(ctx: Context, act: Part, nodes: list[str], description: str) ->
             net = A.add(net, n, typ, {role.port("node"): node}, {role.param("volume"): v_nom})
         return A.free_new(net, params)
     return Candidate("entrained_air", act.name, params, build, "continuity", description, variant="volume")
-
