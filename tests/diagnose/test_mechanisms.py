@@ -856,6 +856,13 @@ def test_a_speed_output_is_also_offered_its_own_second_order_filter():
     assert {tau, zeta} <= set(build_model(net2).free_params)
     assert net2.outputs["w"].expr == f"{sens}.w" and net2.outputs["theta"].expr == net.outputs["theta"].expr
     assert filt[0].params[1].start == 0.71 and not filt[0].params[1].primary
+    # a slow machine's speed may be counted over a gate time or filtered hard: a drum speed read
+    # through a 0.82 Hz filter (τ = 0.19 s, dev winch) must lie inside the bounds AND the
+    # plausible range of the filter and of the first-order lag of both readings, or it ends at a
+    # bound and is refused
+    for c in filt + [c for c in cands if c.effect == "sensor_lag" and c.component == "arm_node"]:
+        q = c.params[0]
+        assert q.bounds[0] < 0.19 < 0.5 < q.bounds[1] and q.plausible[0] < 0.19 < 0.5 < q.plausible[1], c.key
 
 
 # the vane pendulum above without its weight, with its chamber volumes and no cross-vane leak

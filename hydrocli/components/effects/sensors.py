@@ -10,7 +10,8 @@ from ..base import Component, H, Param, Port, R, StateSpec, T, VariableSpec
 from ..dynamics import first_order, second_order
 from ..registry import register
 
-_TAU = Param("tau", "s", 1e-3, "sensor time constant", positive=True, bounds=(1e-5, 0.1))
+# up to a second: a gauge behind a snubber, a speed counted over a gate time on a slow machine
+_TAU = Param("tau", "s", 1e-3, "sensor time constant", positive=True, bounds=(1e-5, 1.0))
 _ZETA = Param("zeta", "1", 0.71, "speed filter damping ratio (0.71 Butterworth, 1 two equal first-order lags)",
               positive=True, bounds=(0.3, 3.0))
 
