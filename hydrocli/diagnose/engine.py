@@ -157,14 +157,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                       f"the {need:.3g} % it needs — not screened")
         out.stopped = {"round": round_ + 1, "esr_validation": val, "noise_floor": su.noise_total, "noise_band": need}
         return out
-    done = {a["key"] for a in accepted if "key" in a} | set(withdrawn)
-    found = {(a["effect"], a["component"]) for a in accepted}
-    # an effect already accepted is not offered again, except in its OTHER forms on the same
-    # component (a worn-seal orifice on top of the laminar leak): once the main effect is in,
-    # what remains is mostly its form mismatch, which the effect's own other forms should take
-    # before unrelated candidates mop it up
-    cands = [c for c in cands if c.key not in done and (not st.only or c.effect in st.only)
-             and (c.effect not in {a["effect"] for a in accepted} or ((c.effect, c.component) in found and c.variant))]
+    cands = offered(cands, accepted, set(withdrawn), st.only)
     texts = {}
     for c in cands:
         try:
@@ -301,6 +294,24 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     log(progress, f"  accepted {c.effect} on '{c.component}': validation ESR {fmt_esr(before.esr_validation)} "
                   f"→ {fmt_esr(new.esr_validation)}")
     return out
+
+
+def offered(cands: list[Candidate], accepted: list[dict], withdrawn: set[str] = frozenset(),
+            only: tuple[str, ...] = ()) -> list[Candidate]:
+    """The candidates a round fits: not accepted or withdrawn before (by key), of the ``only``
+    effects when given, and of an effect not accepted yet — except in its OTHER forms on the
+    same component (a worn-seal orifice on top of the laminar leak): once the main effect is in,
+    what remains is mostly its form mismatch, which the effect's own other forms should take
+    before unrelated candidates mop it up. A volume the base fit grew (a finding with a
+    ``finding`` kind) is a reading of a compliance, not its model: a hose named from it still has
+    its inertance and resistance to add, so the effect's candidates stay on offer on top of it
+    (dev winch, two 11 m hoses: the grown volumes, ×2.3, were named line_dynamics, and with the
+    hoses' candidates withheld a valve underlap stood in for their flow-dependent pressure drop)."""
+    done = {a["key"] for a in accepted if "key" in a} | set(withdrawn)
+    modelled = {a["effect"] for a in accepted if not a.get("finding")}
+    found = {(a["effect"], a["component"]) for a in accepted}
+    return [c for c in cands if c.key not in done and (not only or c.effect in only)
+            and (c.effect not in modelled or ((c.effect, c.component) in found and c.variant))]
 
 
 def _overruled(by_bic, c, f: dict, band: float, progress) -> dict | None:

@@ -1155,3 +1155,28 @@ def test_both_seal_laws_are_fitted_once_pressure_dependent_friction_is_shortlist
         ("mount", "force", "structural_flexibility", 0.028), ("link", "force", "load_compliance", 0.018),
         ("dp", "force", "pressure_dependent_friction", 0.002))
     assert [c.key for c in shortlist(order, scores, 3)] == ["sum", "orifice", "mount", "dp", "link"]
+
+
+def test_a_grown_volume_does_not_withhold_the_model_of_the_compliance_it_reads():
+    """``engine.offered``: an effect a candidate modelled is not offered again except in its
+    other forms on the same component; a base-fit volume finding (grown chamber volumes named
+    line_dynamics) is only a reading of a compliance, so the hose candidates, with the
+    inertance and resistance the volume lacks, stay on offer on top of it. Accepted and
+    withdrawn keys, and ``only``, are honoured as before."""
+    from hydrocli.diagnose.candidates import Candidate
+    from hydrocli.diagnose.engine import offered
+
+    def cand(effect, component, variant=""):
+        return Candidate(effect, component, [], lambda net: net, "continuity", "", variant=variant)
+    line, orifice = cand("line_dynamics", "valve"), cand("internal_leakage", "motor", "orifice")
+    laminar, air = cand("internal_leakage", "motor", "laminar"), cand("entrained_air", "motor")
+    pool = [line, orifice, laminar, air]
+    grown = {"effect": "line_dynamics", "component": "motor", "source": "base_fit",
+             "finding": "fluid_compliance_excess"}
+    keys = lambda cs: [c.key for c in cs]   # noqa: E731
+    assert keys(offered(pool, [grown])) == keys(pool)
+    hose = {"effect": "line_dynamics", "component": "valve", "key": line.key, "source": "candidate"}
+    assert keys(offered(pool, [grown, hose])) == keys([orifice, laminar, air])
+    leak = {"effect": "internal_leakage", "component": "motor", "key": laminar.key, "source": "candidate"}
+    assert keys(offered(pool, [leak])) == keys([line, orifice, air])        # its other form stays
+    assert keys(offered(pool, [], {air.key}, ("entrained_air", "line_dynamics"))) == keys([line])
