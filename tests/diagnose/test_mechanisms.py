@@ -392,7 +392,6 @@ def test_a_swing_the_residual_shows_is_a_start_of_the_payload_candidate(tmp_path
     within 10 %, are starts of the swing's frequency; peaks outside the swings of a 50 m rope
     and the bounces of a stiff one (0.07–30 Hz) are not."""
     from hydrocli.diagnose import locate
-    from hydrocli.diagnose.candidates import payload
     located = {"spectrum": {"P1": {"peak_hz": 0.73}, "P2": {"peak_hz": 0.75}, "w": {"peak_hz": 45.0},
                             "theta": {"peak_hz": 0.0}}}
     assert locate.residual_peaks(located) == pytest.approx((0.73, 45.0))
