@@ -425,7 +425,10 @@ def _ambiguous(su: Setup, win, rival, texts: dict, progress, refit_iterations: i
                               Path(su.machine).stem, refit_iterations=refit_iterations, band=band)
     entry = {"effects": [win[1].effect, rival[1].effect], "components": [win[1].component, rival[1].component],
              "delta_bic": [win[0], rival[0]],
-             "esr_validation_after": [win[2]["esr_validation"], rival[2]["esr_validation"]]}
+             "esr_validation_after": [win[2]["esr_validation"], rival[2]["esr_validation"]],
+             # both a spring in the force balance (a rope, a mount, a rod–load link): with the masses
+             # free, the same two-mass system as the actuator's own transducers see it
+             "two_mass": all(c.effect in COMPLIANCES and c.equation == "force" for c in (win[1], rival[1]))}
     if prop is not None:
         entry.update(proposed_experiment={k: v for k, v in prop.items() if k != "text"},
                      proposed_experiment_text=prop["text"])

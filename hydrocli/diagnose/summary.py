@@ -37,6 +37,12 @@ def write_augmented(diag, path: Path) -> None:
     Y.write_atomic(path, head + text)
 
 
+TWO_MASS = ("Both put a spring between the actuator and a second mass: with the masses free they give the actuator's "
+            "own transducers the same force-to-motion response (one two-mass system), so no input separates them; a "
+            "sensor on the far side of the spring does: an accelerometer or position on the load (hook, tip) or on "
+            "the actuator's housing.")
+
+
 def console_summary(diag) -> str:
     d = diag.data
     lines = []
@@ -135,9 +141,10 @@ def console_summary(diag) -> str:
             else:
                 lines.append(f"  No designed test separates them beyond the noise band once {b.replace('_', ' ')} is "
                              f"re-fitted: the best, {prop['description']} ({prop.get('file', '')}), would leave an ESR "
-                             f"gap of {prop['esr_gap']:.2g} % against a band of {prop['band']:.2g} %{how}. With these "
-                             "inputs the two are not distinguishable; a test at other operating points (pressure "
-                             "levels, loads) is needed.")
+                             f"gap of {prop['esr_gap']:.2g} % against a band of {prop['band']:.2g} %{how}. "
+                             + (TWO_MASS if amb.get("two_mass") else
+                                "With these inputs the two are not distinguishable; a test at other operating points "
+                                "(pressure levels, loads) is needed."))
     if not d["accepted"] and d["verdict"] == "unexplained_mismatch":
         u = d.get("unexplained", {})
         outs = ", ".join(f"{o} {v['esr_validation']:.3g} % (noise {v['noise_floor']:.2g} %)"

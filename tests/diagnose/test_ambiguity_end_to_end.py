@@ -51,6 +51,7 @@ def test_air_against_a_compliance_is_ambiguous_and_the_pressure_level_test_decid
     # another compliance: a hose's volume, a compliant rod–load link or mount, a payload on a
     # rope (session 40: its mode moves with the rope's stiffness, so it is fitted with them)
     assert rival in ("line_dynamics", "load_compliance", "structural_flexibility", "payload_swing")
+    assert pair["two_mass"] is False             # air is in the chambers' continuity, not a second spring
     prop = pair["proposed_experiment"]
     assert prop["name"].endswith("supply_levels")
     assert prop["discrimination"] > 100.0          # χ² left after the rival is re-fitted to air's prediction

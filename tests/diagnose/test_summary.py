@@ -99,3 +99,19 @@ def test_summary_says_when_the_held_out_data_overruled_the_training_bic():
     assert ("Structural flexibility on 'cylinder' fits the training data better (ΔBIC -8719) but predicts the "
             "held-out data worse (summed validation ESR 0.683 %, noise band 0.175 %): the held-out data decide.") in text
     assert "held-out data decide" not in console_summary(_diag([]))
+
+
+def test_summary_says_which_sensor_separates_two_springs_no_input_can():
+    """Two compliances of the mechanics (a payload's rope, a compliant mount) with free masses
+    are one two-mass system to the actuator's own transducers: when no designed test separates
+    them, the summary says a sensor on the far side of the spring would, not "other operating
+    points"; any other undecidable pair keeps the operating-point advice."""
+    prop = {"z": {"P1": 0.4}, "discrimination": 3.0, "decisive": False, "description": "a slow sine",
+            "file": "proposed_experiment_1.yaml", "esr_gap": 0.01, "band": 0.17}
+    for two_mass, says, not_says in ((True, "an accelerometer or position on the load", "other operating points"),
+                                     (False, "other operating points", "accelerometer")):
+        d = _diag([])
+        d.data["ambiguous"] = [{"effects": ["payload_swing", "structural_flexibility"], "delta_bic": [-900.0, -880.0],
+                                "proposed_experiment": prop, "two_mass": two_mass}]
+        text = console_summary(d)
+        assert "No designed test separates them" in text and says in text and not_says not in text
