@@ -115,3 +115,20 @@ def test_cases_alternate_between_machines_and_results_are_written_after_each(tmp
     bench._write(out, SimpleNamespace(split="heldout", data=tmp_path), [row], blind=True, done=False)
     data = json.loads(out.read_text())
     assert data["complete"] is False and "cases" not in data and data["aggregate"]["n_cases"] == 1
+
+
+def test_a_case_is_resolvable_when_the_base_fit_leaves_room_for_an_effect_to_pass():
+    """``resolvable``: the engine's own reach test on the base fit. A base fit that predicts
+    the held-out run at the noise floor (the file's free parameters absorbed the effect) leaves
+    no effect anything to gain; one well above it does. Counted per machine beside the
+    effect-ESR figures."""
+    noise = {"P1": 0.2, "P2": 0.2}
+    tests = {"noise_esr_validation": noise}
+    assert not bench.resolvable({"esr_validation_base": {"P1": 0.21, "P2": 0.2}, "tests": tests})
+    assert bench.resolvable({"esr_validation_base": {"P1": 0.9, "P2": 0.3}, "tests": tests})
+    rows = [dict(_row("entrained_air", "none", machine="winch"), resolvable=False),
+            dict(_row("entrained_air", "entrained_air", machine="winch"), resolvable=True),
+            dict(_row("sensor_lag", "none", machine="winch"), resolvable=True)]
+    m = bench.aggregate(rows)["per_machine"]["winch"]
+    assert (m["top1_ge1"], m["effect_cases_ge1"]) == (1, 3)
+    assert (m["top1_resolvable_ge1"], m["resolvable_ge1"]) == (1, 2)
