@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from hydrocli.diagnose import accept, engine
+from hydrocli.diagnose.stage import Settings
 
 
 def test_noise_esr_is_what_a_perfect_model_leaves():
@@ -73,25 +74,27 @@ def no_candidates(monkeypatch):
 
 def test_round_step_stops_at_the_floor(no_candidates):
     su, stage = _setup_stage(0.398, 0.373)
-    rnd = engine.round_step(su, stage, _accepted(7.7, 0.398), 1, None, None, {})
+    rnd = engine.round_step(su, stage, _accepted(7.7, 0.398), 1, Settings(), None, {})
     assert rnd.accepted is None and rnd.rows == []
     assert rnd.stopped == {"round": 2, "esr_validation": 0.398, "noise_floor": 0.373,
                            "noise_band": pytest.approx(0.25 * (7.7 - 0.398))}
     assert rnd.skipped == [{"effect": "end_stop", "reason": "no stop parameter"}]
     su, stage = _setup_stage(0.577, 0.573)         # round 1 of a null at the floor
-    rnd = engine.round_step(su, stage, [], 0, None, None, {})
+    rnd = engine.round_step(su, stage, [], 0, Settings(), None, {})
     assert rnd.stopped["round"] == 1 and rnd.stopped["noise_band"] == pytest.approx(0.25 * 0.573)
+    # the null study's setting (tests/benchmarks/acceptance_study.py): round 1 is screened anyway
+    assert engine.round_step(su, stage, [], 0, Settings(screen_always=True), None, {}).stopped is None
 
 
 def test_round_step_goes_on_when_an_effect_could_still_pass(no_candidates):
     """Far above the floor, the round goes on (here to its empty catalogue)."""
     su, stage = _setup_stage(2.0, 0.373)
-    assert engine.round_step(su, stage, _accepted(4.0, 2.0), 1, None, None, {}).stopped is None
+    assert engine.round_step(su, stage, _accepted(4.0, 2.0), 1, Settings(), None, {}).stopped is None
     su, stage = _setup_stage(0.8, 0.573)
-    assert engine.round_step(su, stage, [], 0, None, None, {}).stopped is None
+    assert engine.round_step(su, stage, [], 0, Settings(), None, {}).stopped is None
     # from a restrained base (a floor model given) the round always runs
     su, stage = _setup_stage(0.577, 0.573)
-    assert engine.round_step(su, stage, [], 0, None, None, {}, floor=stage).stopped is None
+    assert engine.round_step(su, stage, [], 0, Settings(), None, {}, floor=stage).stopped is None
 
 
 def test_a_round_that_must_name_a_grown_volume_is_fitted_at_the_floor(no_candidates):
@@ -99,8 +102,8 @@ def test_a_round_that_must_name_a_grown_volume_is_fitted_at_the_floor(no_candida
     fit, which then predicts to the noise) is named by the round's fits of its readings (air,
     a hose: base_findings.labelled): that round runs even though no effect can pass."""
     su, stage = _setup_stage(0.577, 0.573)
-    assert engine.round_step(su, stage, [], 0, None, None, {}, must_fit=lambda: True).stopped is None
-    assert engine.round_step(su, stage, [], 0, None, None, {}, must_fit=lambda: False).stopped is not None
+    assert engine.round_step(su, stage, [], 0, Settings(), None, {}, must_fit=lambda: True).stopped is None
+    assert engine.round_step(su, stage, [], 0, Settings(), None, {}, must_fit=lambda: False).stopped is not None
 
 
 def test_volumes_to_name_asks_the_late_rule_on_the_round_s_model(monkeypatch):
