@@ -1179,3 +1179,28 @@ def test_a_grown_volume_does_not_withhold_the_model_of_the_compliance_it_reads()
     leak = {"effect": "internal_leakage", "component": "motor", "key": laminar.key, "source": "candidate"}
     assert keys(offered(pool, [leak])) == keys([line, orifice, air])        # its other form stays
     assert keys(offered(pool, [], {air.key}, ("entrained_air", "line_dynamics"))) == keys([line])
+
+
+def test_a_payload_whose_swing_no_rope_makes_is_implausible():
+    """Each of a payload's bounds alone admits a pair no rope makes: a heavy payload on a very
+    soft rope swings far slower than a 50 m pendulum (dev winch: a shear-thinning drag answered
+    by 105 kg·m² on 0.36 N·m/rad, 0.009 Hz). ``accept.judge`` refuses a fit whose √(k/J)/2π lies
+    outside ``payload.F_RANGE``, with the frequency in its reasons; the same fit at a 1 Hz swing
+    passes."""
+    import math
+    from hydrocli.diagnose import accept
+    from hydrocli.diagnose.candidates import payload
+    from hydrocli.model.builder import build_model
+    net = load_netlist(ROOT / "machines" / "hoist_winch.yaml")
+    cands, _ = catalogue(Context(net, set(build_model(net).free_params), {"drum_node": (0.0, 8.0)}, {}, {}))
+    cand = next(c for c in cands if c.effect == "payload_swing")
+    jp, kp, cp = (p.name for p in cand.params)
+
+    def judged(k, j):
+        fit = {"names": [jp, kp, cp], "estimates": [j, k, 50.0], "stderr": [0.01 * j, 0.01 * k, 1.0], "cost": 0.5}
+        return accept.judge(cand, fit, 1.0, 1e4, 3.0, 0.5, 0.4)
+    slow = judged(0.36, 105.0)
+    assert not slow["passed"] and any("0.0093 Hz is outside" in r for r in slow["reasons"]), slow["reasons"]
+    one_hz = judged(20.0 * (2 * math.pi) ** 2, 20.0)
+    assert one_hz["passed"], one_hz["reasons"]
+    assert payload.F_RANGE[0] < 0.1 and payload._swing_outside(20.0 * (2 * math.pi * 31) ** 2, 20.0)

@@ -81,6 +81,9 @@ class Candidate:
     description: str
     fixed: dict[str, float] = field(default_factory=dict)   # extra non-free values it sets
     variant: str = ""                      # several physical forms of one effect on one component
+    # plausibility of what the parameters make together (a payload's swing frequency √(k/J)):
+    # each check maps the fitted {name: value} to why they are implausible, or None
+    checks: tuple[Callable[[dict[str, float]], str | None], ...] = ()
 
     @property
     def key(self) -> str:

@@ -104,7 +104,20 @@ def _payload(ctx: Context, act: Part, node: str, load: Part) -> Candidate:
     what = ("a payload swinging on a rope (or a flexible tip) from the arm of '{0}' (tangential spring–mass–damper)"
             if dom == Domain.ROTATIONAL else
             "a payload hanging on a rope (bouncing or swinging) from the load of '{0}' (spring–mass–damper)")
-    return Candidate("payload_swing", act.name, params, build, "force", what.format(act.name))
+    return Candidate("payload_swing", act.name, params, build, "force", what.format(act.name),
+                     checks=(lambda est: _swing_outside(est[kp], est[jp]),))
+
+
+def _swing_outside(k: float, j: float) -> str | None:
+    """Why a fitted payload is no payload: its swing √(k/J)/2π outside ``F_RANGE`` (a 50 m
+    pendulum to a stiff rope's bounce), or None. Each bound alone allows a far slower pair: dev
+    winch, a shear-thinning viscous drag (3.0 %) answered by a 105 kg·m² "payload" on
+    0.36 N·m/rad, a 0.009 Hz swing (a 3 km pendulum) standing in for a slow drag."""
+    f = (k / j) ** 0.5 / (2 * math.pi) if k > 0 and j > 0 else 0.0
+    if F_RANGE[0] <= f <= F_RANGE[1]:
+        return None
+    return (f"its swing at {f:.2g} Hz is outside a rope's {F_RANGE[0]:.2g}–{F_RANGE[1]:.0f} Hz "
+            "(a 50 m pendulum to a stiff rope's bounce)")
 
 
 def _ceiling(ctx: Context, name: str | None) -> float:
