@@ -169,7 +169,7 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
             imprecise.append(f"{p.name} poorly determined (±{100 * s / dev:.0f} % of its effect)")
         resolved |= p.primary and np.isfinite(s) and dev > 0 and s / dev <= MAX_REL_SE
     reasons += pushed
-    reasons += [why for check in getattr(cand, "checks", ()) if (why := check(est))]
+    reasons += [why for check in cand.checks if (why := check(est))]
     small = not reasons and not imprecise and any(engaged) and not plausible_any and resolved
     if not any(engaged):
         reasons.append("no stop engaged within the positions recorded")

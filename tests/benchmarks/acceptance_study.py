@@ -39,19 +39,23 @@ def other_reasons(cand: dict) -> list[str]:
     return [r for r in (cand.get("reasons") or []) if "noise band" not in r]
 
 
+def noise_floor(row: dict) -> float:
+    """The case's summed held-out noise ESR over the outputs its base was scored on."""
+    noise = row.get("noise_validation") or {}
+    return sum(noise.get(o, 0.0) for o in row["esr_before"])
+
+
 def passes(cand: dict, row: dict, kappa: float) -> bool:
     if other_reasons(cand):
         return False
-    before, noise = row["esr_before"], row.get("noise_validation") or {}
-    val0 = sum(before.values())
-    floor = sum(noise.get(o, 0.0) for o in before)
+    val0, floor = sum(row["esr_before"].values()), noise_floor(row)
     return cand["validation_gain"] > max(kappa * floor, MIN_REL * max(val0 - floor, 0.0))
 
 
 def null_margin(row: dict) -> float | None:
     """The largest round-1 held-out gain / noise floor of a candidate that passes everything but
     the band (None: no such candidate was fitted)."""
-    floor = sum((row.get("noise_validation") or {}).get(o, 0.0) for o in row["esr_before"])
+    floor = noise_floor(row)
     gains = [c["validation_gain"] for c in row.get("candidates") or [] if c.get("round") == 1
              and c.get("validation_gain") is not None and not other_reasons(c)]
     return max(gains) / floor if gains and floor > 0 else None

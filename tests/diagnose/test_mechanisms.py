@@ -665,7 +665,7 @@ def test_a_stop_fitted_beyond_the_recorded_positions_is_not_judged_but_one_must_
     params = [NewParam("c.x_min", -0.04, (-0.1, 0.004), (-0.1, 0.004), -0.001, scale=0.2, reach=reach),
               NewParam("c.x_max", 0.24, (0.196, 0.3), (0.196, 0.3), 0.201, scale=0.2, reach=reach),
               NewParam("c.k", 1e8, (1e5, 1e11), (1e5, 1e11), 3e8, True, primary=False)]
-    cand = SimpleNamespace(params=params)
+    cand = SimpleNamespace(params=params, checks=())          # a Candidate as judge reads it
 
     def fit(x_min, x_max):
         return {"names": ["c.x_min", "c.x_max", "c.k"], "estimates": [x_min, x_max, 1e10],

@@ -234,8 +234,9 @@ def _holds_oil(ctx: Context, act: Part) -> bool:
     """Whether the actuator's own chambers hold oil its ``air`` can soften: a motor whose
     chamber volumes are 0 (its lines carry all the capacitance) has none, and its air goes
     into volumes on the chamber nodes (:func:`_air_volumes`)."""
+    volumes = act.params("dead_volumes")
     try:
-        return any(ctx.value(n) > 0 for n in act.params("dead_volumes")) or not act.params("dead_volumes")
+        return not volumes or any(ctx.value(n) > 0 for n in volumes)
     except (KeyError, TypeError, ValueError):
         return True
 
