@@ -226,6 +226,9 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                 bounded.append((row["delta_bic"], c, fits[c.key]))
             elif row.get("small"):
                 small.append((row["delta_bic"], c, fits[c.key]))
+        if not later:
+            passing += _specific(best, judged, fits, {c.key: base_ref[grad[c.key]][1] for c in best},
+                                 su.noise_total, progress)
         # the screening is a linearisation at one probe: when none of its picks passes and the
         # held-out error is still far above the noise (the verdict would be an unexplained
         # mismatch), the next effects in its order are fitted before saying so (real Festo rig,
@@ -374,6 +377,27 @@ def _judge(c: Candidate, score: dict, f: dict | None, round_: int, ssr0: float, 
     if score["error"]:
         row["error"] = score["error"]
     return row, passed
+
+
+def _specific(best: list[Candidate], judged: dict, fits: dict, val0: dict, noise: float, progress) -> list:
+    """The (ΔBIC, candidate, fit) of this wave's first-effect candidates that failed on the
+    held-out band alone but whose gain no other effect's comes near (:func:`accept.specific_need`,
+    against every candidate of another effect fitted in this round so far); their rows are
+    marked passed, with the band they beat and the other effects' best gain."""
+    out = []
+    for c in best:
+        row = judged[c.key]
+        if not row.get("band_only"):
+            continue
+        other = accept.other_gain(c.effect, judged.values())
+        band = accept.specific_need(val0[c.key], noise, other)
+        if not row["validation_gain"] > band:
+            continue
+        row.update(passed=True, band_only=False, reasons=[], noise_band=band, specific_over=other)
+        out.append((row["delta_bic"], c, fits[c.key]))
+        log(progress, f"  {c.effect} on '{c.component}' gains {row['validation_gain']:.3g} % on the held-out data, "
+                      f"no other effect gained more than {other:.3g} %: a gain specific to it (band {band:.3g} %)")
+    return out
 
 
 def _first_gain(accepted: list[dict]) -> float | None:

@@ -169,3 +169,55 @@ def test_a_resolved_candidate_below_its_naming_floor_is_preferred_to_a_passing_o
     assert _dominant([(-32080, edges, {})], [(-17407, lap, {})], rows, alone=False)[1] is edges
     assert _dominant([(-32080, edges, {})], [], rows, alone=False) is None          # nothing passes: not named
     assert _dominant([(-10000, edges, {})], [(-17407, lap, {})], rows, alone=False) is None   # lap fits better
+
+
+def test_a_gain_no_other_effect_comes_near_passes_on_its_own_margin():
+    """The look-elsewhere margin (a quarter of the floor) guards against a misfit any added freedom
+    absorbs; the other effects' gains in the same round measure that. Dev winch, free air at a
+    near-constant hook load: floor 0.582 %, base 0.688 %, the air gains 0.111 % (19 % of the floor,
+    the whole gap) and nothing else gains: refused by the margin, specific enough to pass."""
+    noise, val0, gain = 0.582, 0.688, 0.111
+    refused = accept.judge(_cand(), _fit(1200.0, 50.0, 0.86), 1.0, 40000, val0, val0 - gain, noise)
+    assert not refused["passed"] and refused["band_only"]
+    assert gain > accept.specific_need(val0, noise, accept.other_gain("coulomb_friction", [
+        {"effect": "valve_asymmetry", "validation_gain": -0.03}, {"effect": "coulomb_friction", "validation_gain": gain}]))
+    # a gain several unrelated candidates share is the generic misfit: refused (dev EHA null,
+    # mount 0.104 %, rod-load link 0.101 %, supply line 0.096 % of a 0.831 % floor)
+    others = [{"effect": "load_compliance", "validation_gain": 0.101}, {"effect": "supply_pressure_drop",
+                                                                       "validation_gain": 0.096}]
+    assert not 0.104 > accept.specific_need(0.92, 0.831, accept.other_gain("structural_flexibility", others))
+    # the share of the error above the floor still applies: a specific sliver of a large misfit is not a finding
+    assert accept.specific_need(10.0, 0.3, 0.0) == accept.MIN_REL * 9.7
+
+
+def test_band_only_marks_a_candidate_that_failed_on_the_band_alone():
+    """Only a candidate whose one reason is the held-out band may pass on a specific gain: not one
+    that is implausible, imprecise or worse on BIC as well."""
+    implausible = accept.judge(_cand(), _fit(2.0, 0.1, 0.86), 1.0, 40000, 0.688, 0.6, 0.582)
+    assert not implausible["passed"] and not implausible["band_only"]
+    worse_bic = accept.judge(_cand(), _fit(1200.0, 50.0, 1.01), 1.0, 40000, 0.688, 0.6, 0.582)
+    assert not worse_bic["band_only"]
+    vague = accept.judge(_cand(), _fit(1200.0, 900.0, 0.86), 1.0, 40000, 0.688, 0.6, 0.582)
+    assert not vague["band_only"]
+    passed = accept.judge(_cand(), _fit(1200.0, 50.0, 0.2), 1.0, 500, 10.0, 2.0, 0.2)
+    assert passed["passed"] and not passed["band_only"]
+
+
+def test_the_round_passes_a_specific_gain_and_says_so():
+    """engine._specific: among a wave's candidates, the one failing on the band alone whose gain
+    beats every other effect's by SPECIFIC of the floor is marked passed; one within that of
+    another effect's is not."""
+    from hydrocli.diagnose import engine
+    air, mount, link = (Candidate(e, "motor", [], lambda n: n, "x", "t")
+                        for e in ("entrained_air", "structural_flexibility", "load_compliance"))
+    judged = {air.key: {"effect": "entrained_air", "validation_gain": 0.111, "band_only": True, "passed": False,
+                        "reasons": ["within the noise band"], "delta_bic": -7246.0},
+              mount.key: {"effect": "structural_flexibility", "validation_gain": 0.05, "band_only": True,
+                          "passed": False, "reasons": ["within the noise band"], "delta_bic": -300.0},
+              link.key: {"effect": "load_compliance", "validation_gain": 0.049, "band_only": False, "passed": False,
+                         "reasons": ["implausible"], "delta_bic": -290.0}}
+    fits = {k: {"key": k} for k in judged}
+    out = engine._specific([air, mount, link], judged, fits, {k: 0.688 for k in judged}, 0.582, None)
+    assert [c.effect for _, c, _ in out] == ["entrained_air"]
+    assert judged[air.key]["passed"] and judged[air.key]["specific_over"] == 0.05
+    assert not judged[mount.key]["passed"] and not judged[link.key]["passed"]
