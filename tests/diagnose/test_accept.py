@@ -183,8 +183,8 @@ def test_a_gain_no_other_effect_comes_near_passes_on_its_own_margin():
         {"effect": "valve_asymmetry", "validation_gain": -0.03}, {"effect": "coulomb_friction", "validation_gain": gain}]))
     # a gain several unrelated candidates share is the generic misfit: refused (dev EHA null,
     # mount 0.104 %, rod-load link 0.101 %, supply line 0.096 % of a 0.831 % floor)
-    others = [{"effect": "load_compliance", "validation_gain": 0.101}, {"effect": "supply_pressure_drop",
-                                                                       "validation_gain": 0.096}]
+    others = [{"effect": "load_compliance", "validation_gain": 0.101},
+              {"effect": "supply_pressure_drop", "validation_gain": 0.096}]
     assert not 0.104 > accept.specific_need(0.92, 0.831, accept.other_gain("structural_flexibility", others))
     # the share of the error above the floor still applies: a specific sliver of a large misfit is not a finding
     assert accept.specific_need(10.0, 0.3, 0.0) == accept.MIN_REL * 9.7
