@@ -226,7 +226,8 @@ def test_a_vane_actuator_is_offered_its_seals_pressure_loaded_friction(tmp_path,
     rotary drive, whose shaft friction has no pressure term, gets the seal element on the
     vane's displacement per radian with three laws (the pressure difference, the pressure sum,
     each side's hub seal pressed by its own chamber); each builds, frees its coefficients and
-    brakes the swinging arm more than without them."""
+    brakes the swinging arm more than without them. The speed band the seal's force reverses
+    over is a companion started at the shaft friction's band (the machine's ε)."""
     monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path))
     rotary = Path(__file__).parents[2] / "machines" / "rotary_drive.yaml"
     net, _ = with_pressure_sensors(load_netlist(rotary))
@@ -240,8 +241,11 @@ def test_a_vane_actuator_is_offered_its_seals_pressure_loaded_friction(tmp_path,
     speed = {}
     for c in seals:
         aug = build_model(c.build(net))
-        names = [p.name for p in c.params]
-        assert set(names) <= set(aug.free_params) and len(names) == (2 if c.variant == "sides" else 1)
+        names = [p.name for p in c.params if p.primary]
+        assert {p.name for p in c.params} <= set(aug.free_params) and len(names) == (2 if c.variant == "sides" else 1)
+        band, = (p for p in c.params if not p.primary)
+        assert band.name.endswith(".eps") and band.start == band.ref == pytest.approx(net.components["friction"].params["eps"].value)
+        assert band.bounds[0] < band.start < band.bounds[1]
         assert aug.p0[aug.param_index(names[0].rsplit(".", 1)[0] + ".D_p")] == pytest.approx(2.0e-5)
         for mu in (0.0, 0.2):
             tr = simulate(aug, InputTable(t, U), t, p=aug.param_vector(dict.fromkeys(names, mu)),
@@ -332,8 +336,11 @@ def test_a_single_rod_cylinder_is_offered_its_rod_seal_loaded_by_the_rod_side(tm
     net, _ = with_pressure_sensors(load_netlist(root / "luffing_cylinder.yaml"))
     rod = found["luffing_cylinder.yaml"]["rod"]
     aug = build_model(rod.build(net))
-    (p,) = rod.params
-    assert p.name.endswith(".mu_b") and p.name in aug.free_params
+    (p,) = (q for q in rod.params if q.primary)
+    assert p.name.endswith(".mu_b") and {q.name for q in rod.params} <= set(aug.free_params)
+    # the seal's reversal band: a companion started at the friction element's band
+    (band,) = (q for q in rod.params if not q.primary)
+    assert band.name.endswith(".eps") and band.start == band.ref and band.bounds[0] < band.start < band.bounds[1]
     area = aug.p0[aug.param_index(p.name.rsplit(".", 1)[0] + ".A_p")]
     assert area == pytest.approx(5.0265e-3, rel=1e-3)
 

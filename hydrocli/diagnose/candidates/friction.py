@@ -84,7 +84,7 @@ class FrictionFamily(Family):
                 ctx, "pressure_dependent_friction", fr.name, [NewParam(mu, 1e-4, (0.0, 0.2), (2e-3, 0.2), 0.02)],
                 "force", "seal friction growing with chamber pressure, μ_p·A·(p_A + p_B)·sign(v)",
                 fixed={fr.param("pressure_size"): area}, connect=connect))
-        out.extend(_seal(ctx, fr.name, act, area))
+        out.extend(_seal(ctx, fr.name, act, area, _file_value(ctx, fr, fr.param("band"))))
         return out
 
     def _new_friction(self, ctx: Context, act: Part, node: str, fmax: float):
@@ -209,12 +209,19 @@ def _file_value(ctx: Context, fr: Part, name: str | None) -> float | None:
     return float(v) if v and v > 0 else None
 
 
-def _seal(ctx: Context, owner: str, act: Part, area: float) -> list:
+def _seal(ctx: Context, owner: str, act: Part, area: float, band: float | None = None) -> list:
     """Seal friction loaded by the pressure DIFFERENCE across the piston seal (the
     ``seal_friction`` element), and on a single-rod cylinder a rod seal loaded by the rod side
     alone. A vane actuator's seals (``rotary_seal_friction``, on its displacement per radian)
     get the difference and the sum: its friction element has no pressure term, so the seals
-    loaded by both chambers (μ_s·D·(p_A + p_B)) are offered here too."""
+    loaded by both chambers (μ_s·D·(p_A + p_B)) are offered here too.
+
+    The speed band ε over which the seal's force reverses (tanh(v/ε)) is a companion, as the
+    Coulomb law's band is (:func:`_band`): started at the machine friction's band (``band``, or
+    the element's default), up to ``BAND_RANGE`` times it. A loaded seal that reverses over
+    0.02 rad/s acts as a stiff damper under the dither at standstill; held at 1 mrad/s it is a
+    hard stick (dev winch, a piston seal at ε 0.02 rad/s: the seal law closed 20 % of the gap,
+    an implausible breakaway more)."""
     rod = act.node("motion")
     dom = ctx.domain(rod)
     if dom is None or dom.value not in ("translational", "rotational"):
@@ -236,9 +243,13 @@ def _seal(ctx: Context, owner: str, act: Part, area: float) -> list:
         # it is the atmosphere): neither the sum nor the difference law (held-out seed 73's
         # lift rod seal, 4.15 %, was named a hose)
         laws.append((("mu_b",), 1.0, "rod", "rod-seal friction growing with the rod-side pressure, μ_b·{s}·p_B"))
+    eps = band or registry.get(typ).param("eps").default
+    reversal = NewParam(f"{name}.eps", eps, (0.5 * eps, BAND_RANGE * eps), (eps, BAND_RANGE * eps), eps, True,
+                        primary=False, ref=eps, shapes=(0.1 * BAND_RANGE * eps,))
     out = []
     for mus, top, variant, text in laws:
-        prms = [NewParam(f"{name}.{mu}", 1e-4, (0.0, top), (2e-3, top), 0.02 if mu == "mu_s" else 0.05) for mu in mus]
+        prms = [NewParam(f"{name}.{mu}", 1e-4, (0.0, top), (2e-3, top), 0.02 if mu == "mu_s" else 0.05)
+                for mu in mus] + [reversal]
 
         def build(net, prms=prms):
             net = A.add(net, name, typ, {"a": rod, "b": body, "pa": act.node("chamber_a"),
