@@ -291,6 +291,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                     "esr_train_after": new.esr_train, "esr_validation_before": before.esr_validation,
                     "esr_validation_after": new.esr_validation, "alternatives": alternatives,
                     **({"held_out_over": over} if over else {}),
+                    **({"specific_gain": {"gain": row["validation_gain"], "other": row["specific_over"],
+                                          "band": row["noise_band"]}} if "specific_over" in row else {}),
                     **({("ended_at_bound" if row.get("bounded") else "below_naming_floor" if row.get("small")
                          else "size_poorly_determined"): row["notes"]} if row.get("notes") else {})}
     out.stage, out.candidate = new, c

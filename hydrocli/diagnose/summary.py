@@ -113,6 +113,11 @@ def console_summary(diag) -> str:
             if a.get("below_naming_floor"):
                 lines.append(f"  Its size is below what is usually worth naming ({'; '.join(a['below_naming_floor'])}), "
                              "but it explains these data better than every effect of a nameable size.")
+            if a.get("specific_gain"):
+                g = a["specific_gain"]
+                lines.append(f"  Its held-out gain ({g['gain']:.3g} %) is smaller than the look-elsewhere margin but "
+                             f"specific to it: no other effect fitted gained more than {g['other']:.3g} % "
+                             f"(band {g['band']:.3g} %).")
             if a.get("held_out_over"):
                 h = a["held_out_over"]
                 lines.append(f"  {h['effect'].replace('_', ' ').capitalize()} on '{h['component']}' fits the training "

@@ -101,6 +101,17 @@ def test_summary_says_when_the_held_out_data_overruled_the_training_bic():
     assert "held-out data decide" not in console_summary(_diag([]))
 
 
+def test_summary_says_when_an_effect_passed_on_a_gain_specific_to_it():
+    """An effect accepted below the look-elsewhere margin because no other effect came near its
+    held-out gain (accept.specific_need) says so, with the figures it was judged on."""
+    d = _diag([])
+    d.data["accepted"][0]["specific_gain"] = {"gain": 0.111, "other": 0.0, "band": 0.0291}
+    text = console_summary(d)
+    assert ("Its held-out gain (0.111 %) is smaller than the look-elsewhere margin but specific to it: no other "
+            "effect fitted gained more than 0 % (band 0.0291 %).") in text
+    assert "specific to it" not in console_summary(_diag([]))
+
+
 def test_summary_says_which_sensor_separates_two_springs_no_input_can():
     """Two compliances of the mechanics (a payload's rope, a compliant mount) with free masses
     are one two-mass system to the actuator's own transducers: when no designed test separates
