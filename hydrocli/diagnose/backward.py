@@ -37,6 +37,7 @@ def backward(su: Setup, b: Baseline, stage: Stage, accepted: list[dict], built: 
         dbic, gain, band, reasons = accept.presence(reduced.cost, stage.cost, len(built[a["key"]].params), n_eff,
                                                     val0, val1, su.noise_total, later=True)
         if not reasons:
+            a["removal_gain"] = gain      # what it is worth beside the later ones (ranking.by_importance)
             continue
         log(progress, f"  withdrawn {a['effect']} on '{a['component']}': beside {later['effect']} "
                       f"{'; '.join(reasons)}")

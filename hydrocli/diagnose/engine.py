@@ -487,7 +487,7 @@ def _polish(su: Setup, stage: Stage, c: Candidate, text: str, f: dict, n_eff: fl
 # -- step 4 -------------------------------------------------------------------------------
 def conclude(su: Setup, b: Baseline, final: Stage, accepted: list[dict], rows: list[dict], skipped: list[dict],
              train_paths, validate_paths, t_start: float) -> dict:
-    effects = list(dict.fromkeys(a["effect"] for a in accepted))
+    effects = ranking.by_importance(accepted)
     mismatch = None if effects else findings.unexplained(final.esr_validation, su.noise, b.located)
     verdict = "missing_physics" if effects else ("unexplained_mismatch" if mismatch else "none")
     data = {

@@ -85,3 +85,25 @@ def separated(f: dict, f2: dict, band: float) -> bool:
     gaps = [residuals.total(f["esr_validation"]) - residuals.total(f2["esr_validation"])]
     gaps += [a - b for a, b in zip(f.get("esr_train_each", []), f2.get("esr_train_each", []))]
     return any(abs(g) >= band for g in gaps)
+
+
+def by_importance(accepted: list[dict]) -> list[str]:
+    """The accepted effects' names, each once, the effects a round's candidate added ordered by
+    what they are worth to the final model: the held-out ESR its removal costs when backward
+    elimination measured it (``removal_gain``, :func:`.backward.backward`: an earlier effect
+    kept beside a later one), else the gain of the step that added it. Base-fit findings and
+    other entries keep their places. The rounds add effects greedily, so the first is the best
+    SINGLE stand-in for what is missing; when a later effect is worth more than the first is
+    beside it, the later one leads (dev lift, a rod seal pressed by the rod side: a mount was
+    accepted first, 2.5 × the floor, the seal in round 2 gained 8.9 × the floor; the mount kept
+    only what the seal did not explain)."""
+    def worth(a: dict) -> float:
+        if "removal_gain" in a:
+            return a["removal_gain"]
+        return residuals.total(a["esr_validation_before"]) - residuals.total(a["esr_validation_after"])
+    slots = [i for i, a in enumerate(accepted) if a.get("source") == "candidate" and "esr_validation_after" in a]
+    ordered = sorted((accepted[i] for i in slots), key=worth, reverse=True)
+    out = list(accepted)
+    for i, a in zip(slots, ordered):
+        out[i] = a
+    return list(dict.fromkeys(a["effect"] for a in out))

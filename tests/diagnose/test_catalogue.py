@@ -244,7 +244,8 @@ def test_a_vane_actuator_is_offered_its_seals_pressure_loaded_friction(tmp_path,
         names = [p.name for p in c.params if p.primary]
         assert {p.name for p in c.params} <= set(aug.free_params) and len(names) == (2 if c.variant == "sides" else 1)
         band, = (p for p in c.params if not p.primary)
-        assert band.name.endswith(".eps") and band.start == band.ref == pytest.approx(net.components["friction"].params["eps"].value)
+        shaft_band = net.components["friction"].params["eps"].value
+        assert band.name.endswith(".eps") and band.start == band.ref == pytest.approx(shaft_band)
         assert band.bounds[0] < band.start < band.bounds[1]
         assert aug.p0[aug.param_index(names[0].rsplit(".", 1)[0] + ".D_p")] == pytest.approx(2.0e-5)
         for mu in (0.0, 0.2):
