@@ -43,10 +43,12 @@ SPECIFIC = 0.05  # of the noise floor: the margin by which a first effect's held
                  # (:func:`specific_need`). What the look-elsewhere margin guards against is a misfit
                  # any added freedom absorbs (a base-form mismatch of the independent truth: an EHA
                  # null whose mount, rod-load link and supply line each gained 0.12 of the floor);
-                 # the other effects' gains measure that directly. On dev (5 machine types, 84
-                 # effect cases and 35 nulls fitted) the best candidate of a wrong effect or of a
-                 # null beat every other effect's gain by at most 0.0014 of the floor (a rotary's
-                 # input delay: hysteresis, sensor lag and the delay itself all gained 0.17-0.20)
+                 # the other effects' gains measure that directly. On dev (5 machine types, 102
+                 # effect cases and 19 nulls with candidates fitted, sessions 41-42:
+                 # tests/benchmarks/acceptance_study.py) a candidate of a wrong effect or of a null
+                 # judged on the band beat every other effect's gain by at most 0.0068 of the floor
+                 # (a lift's payload beside its mount); a rotary's input delay: hysteresis, sensor
+                 # lag and the delay itself each gained 0.17-0.20 of the floor
 
 
 def _at_bound(v: float, bounds, log: bool | None) -> bool:

@@ -9,10 +9,16 @@ factor κ the held-out rule of ``diagnose.accept`` is replayed with the band
     need = max(κ · Σ noise ESR, MIN_REL · (val0 − Σ noise ESR))
 
 (κ = ``accept.LOOK_ELSEWHERE`` is the diagnosis' rule) and every other reason a candidate
-failed is kept; among the round-1 candidates that pass, the lowest ΔBIC is named. Only round 1
+failed is kept, and a candidate failing that band passes on a gain specific to it as the
+engine's does (``accept.specific_need``, against the best gain of another effect's round-1
+candidate); among the round-1 candidates that pass, the lowest ΔBIC is named. Only round 1
 is replayed (later rounds start from a model the bench did not keep), and val0 is the base's
 validation ESR (the engine uses the better of the base and its control re-fit), so the rule's
 κ may differ from the bench's own answer on a few cases.
+
+The specific margin: every round-1 candidate that fails only on the look-elsewhere band, of a
+WRONG effect or of a null, with its gain beyond the other effects' best as a share of the floor —
+what ``accept.SPECIFIC`` must stay above.
 
 The null cases' margin: for each null, the largest held-out gain, as a share of the noise
 floor, of a round-1 candidate that passes everything but the band — what the look-elsewhere
@@ -31,7 +37,7 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from hydrocli.diagnose.accept import LOOK_ELSEWHERE, MIN_REL  # noqa: E402
+from hydrocli.diagnose.accept import LOOK_ELSEWHERE, MIN_REL, SPECIFIC, other_gain, specific_need  # noqa: E402
 
 
 def other_reasons(cand: dict) -> list[str]:
@@ -45,11 +51,35 @@ def noise_floor(row: dict) -> float:
     return sum(noise.get(o, 0.0) for o in row["esr_before"])
 
 
-def passes(cand: dict, row: dict, kappa: float) -> bool:
+def round1(row: dict) -> list[dict]:
+    return [c for c in row.get("candidates") or [] if c.get("round") == 1 and c.get("validation_gain") is not None]
+
+
+def passes(cand: dict, row: dict, kappa: float, specific: bool = True) -> bool:
     if other_reasons(cand):
         return False
     val0, floor = sum(row["esr_before"].values()), noise_floor(row)
-    return cand["validation_gain"] > max(kappa * floor, MIN_REL * max(val0 - floor, 0.0))
+    if cand["validation_gain"] > max(kappa * floor, MIN_REL * max(val0 - floor, 0.0)):
+        return True
+    return specific and cand["validation_gain"] > specific_need(val0, floor, other_gain(cand["effect"], round1(row)))
+
+
+def specific_margins(rows: list[dict]) -> list[tuple[float, str, str]]:
+    """(gain beyond the other effects' best / floor, case, effect) of every round-1 candidate
+    of a wrong effect or of a null that the engine judged on the look-elsewhere band alone: it
+    failed on the band only, or passed with a band below the margin (on a specific gain). One
+    that passed the margin itself is the ordinary rule's business (and its case's val0 may not
+    be the base's: a grown-volume finding's round starts from the finding)."""
+    out = []
+    for r in rows:
+        floor = noise_floor(r)
+        for c in round1(r):
+            on_band = not c.get("passed") or c.get("noise_band", 0.0) < 0.9 * LOOK_ELSEWHERE * floor
+            if c["effect"] == r["effect"] or other_reasons(c) or not on_band:
+                continue
+            if floor > 0:
+                out.append(((c["validation_gain"] - other_gain(c["effect"], round1(r))) / floor, r["case"], c["effect"]))
+    return sorted(out, reverse=True)
 
 
 def null_margin(row: dict) -> float | None:
@@ -90,6 +120,11 @@ def main(argv=None) -> int:
             n = named(r, kappa)
             if n != ref[r["case"]]:
                 print(f"    {r['case']}: {ref[r['case']]} -> {n}{'  (right)' if n == r['effect'] else ''}")
+    spec = specific_margins(rows)
+    print(f"specific margin (SPECIFIC = {SPECIFIC}): largest gain beyond the other effects' of a wrong "
+          f"effect's or a null's candidate, / noise floor:")
+    for m, case, effect in spec[:5]:
+        print(f"    {m:+7.4f}  {case}  {effect}")
     margins = sorted(((m, r["case"]) for r in rows if r["effect"] == "none"
                       for m in [null_margin(r)] if m is not None), reverse=True)
     print(f"nulls with a candidate passing all but the band: {len(margins)}; largest held-out gain / noise floor:")

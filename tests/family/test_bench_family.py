@@ -103,6 +103,28 @@ def test_acceptance_study_replays_the_band_and_keeps_every_other_reason():
     assert study.named(row, 0.25) == "sensor_lag"       # the better-BIC delay stays out: imprecise
 
 
+def test_acceptance_study_replays_the_specific_gain_and_lists_the_margins_it_must_keep():
+    """The replay passes a candidate below the band on a gain no other effect's comes near (as the
+    engine does, accept.specific_need) and lists, for wrong effects and nulls judged on the band,
+    how far their gain stood beyond the other effects' best."""
+    spec = importlib.util.spec_from_file_location(
+        "acceptance_study", Path(__file__).parents[1] / "benchmarks" / "acceptance_study.py")
+    study = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(study)
+    band = ["validation ESR gain is within the noise band (0.145 %)"]
+    row = {"effect": "entrained_air", "case": "air", "esr_before": {"P1": 0.7}, "noise_validation": {"P1": 0.58},
+           "candidates": [
+               {"effect": "entrained_air", "round": 1, "delta_bic": -7000.0, "validation_gain": 0.11, "reasons": band},
+               {"effect": "load_compliance", "round": 1, "delta_bic": -300.0, "validation_gain": 0.02, "reasons": band}]}
+    assert study.named(row, 0.25) == "entrained_air"
+    assert not study.passes(row["candidates"][0], row, 0.25, specific=False)
+    (m, case, effect), = study.specific_margins([row])
+    assert (case, effect) == ("air", "load_compliance") and m == pytest.approx((0.02 - 0.11) / 0.58)
+    # the same gain shared with another effect is no specific gain
+    row["candidates"][1]["validation_gain"] = 0.1
+    assert study.named(row, 0.25) == "none"
+
+
 def test_cases_alternate_between_machines_and_results_are_written_after_each(tmp_path):
     """A run stopped early has covered every machine alike and keeps what it measured."""
     folders = [tmp_path / m / f"{m}_{i}" for m in ("eha", "lift", "rotary") for i in range(3 if m == "eha" else 1)]
