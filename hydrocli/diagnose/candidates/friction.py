@@ -147,10 +147,15 @@ def _band(ctx: Context, fr: Part) -> list[NewParam]:
     v = _file_value(ctx, fr, name)
     if v is None:
         return []
-    # bounds reach below the file's value (a start strictly inside them); judged as a widening:
-    # |band − file's| from once the file's value up (ended at the top: an implausibly wide band)
-    return [NewParam(name, v, (0.5 * v, BAND_RANGE * v), (v, BAND_RANGE * v), v, True, primary=False, ref=v,
-                     shapes=(0.1 * BAND_RANGE * v,))]
+    return [_widening(name, v)]
+
+
+def _widening(name: str, v: float) -> NewParam:
+    """A reversal band ``name`` as a companion started at ``v`` (log scale): its bounds reach
+    below ``v`` (a start strictly inside them), judged as a widening, |band − v| from once ``v``
+    up to ``BAND_RANGE`` times it (ended at the top: an implausibly wide band)."""
+    return NewParam(name, v, (0.5 * v, BAND_RANGE * v), (v, BAND_RANGE * v), v, True, primary=False, ref=v,
+                    shapes=(0.1 * BAND_RANGE * v,))
 
 
 def _decay(ctx: Context, fr: Part) -> list[NewParam]:
@@ -217,7 +222,7 @@ def _seal(ctx: Context, owner: str, act: Part, area: float, band: float | None =
     loaded by both chambers (μ_s·D·(p_A + p_B)) are offered here too.
 
     The speed band ε over which the seal's force reverses (tanh(v/ε)) is a companion, as the
-    Coulomb law's band is (:func:`_band`): started at the machine friction's band (``band``, or
+    Coulomb law's band is (:func:`_widening`): started at the machine friction's band (``band``, or
     the element's default), up to ``BAND_RANGE`` times it. A loaded seal that reverses over
     0.02 rad/s acts as a stiff damper under the dither at standstill; held at 1 mrad/s it is a
     hard stick (dev winch, a piston seal at ε 0.02 rad/s: the seal law closed 20 % of the gap,
@@ -243,9 +248,7 @@ def _seal(ctx: Context, owner: str, act: Part, area: float, band: float | None =
         # it is the atmosphere): neither the sum nor the difference law (held-out seed 73's
         # lift rod seal, 4.15 %, was named a hose)
         laws.append((("mu_b",), 1.0, "rod", "rod-seal friction growing with the rod-side pressure, μ_b·{s}·p_B"))
-    eps = band or registry.get(typ).param("eps").default
-    reversal = NewParam(f"{name}.eps", eps, (0.5 * eps, BAND_RANGE * eps), (eps, BAND_RANGE * eps), eps, True,
-                        primary=False, ref=eps, shapes=(0.1 * BAND_RANGE * eps,))
+    reversal = _widening(f"{name}.eps", band or registry.get(typ).param("eps").default)
     out = []
     for mus, top, variant, text in laws:
         prms = [NewParam(f"{name}.{mu}", 1e-4, (0.0, top), (2e-3, top), 0.02 if mu == "mu_s" else 0.05)
