@@ -351,7 +351,11 @@ def test_a_cylinders_payload_rings_on_its_rope_at_its_own_frequency():
     ctx = Context(net, set(build_model(net).free_params), residual_peaks_hz=(1.22, 45.0))
     c = next(c for c in catalogue(ctx)[0] if c.effect == "payload_swing")
     names = [q.name for q in c.params]
-    assert [q.name.split(".")[1] for q in c.params] == ["m", "k", "c"] and c.component == "cylinder"
+    # the mass, the rope, its damping, and the sheaves' dry friction (both directions), unused at
+    # the start; no winding on a cylinder
+    assert [q.name.split(".")[1] for q in c.params] == ["m", "k", "c", "kc_p", "kc_m"] and c.component == "cylinder"
+    assert all(q.start == 0 and not q.primary for q in c.params[3:])
+    names = names[:3]
     jprobe, kp = c.params[0].probe, c.params[1]
     freqs = [math.sqrt(k / jprobe) / (2 * math.pi) for k in kp.shapes]
     assert freqs == pytest.approx([1.576, 4.070, 1.22], rel=1e-3)      # 45 Hz is no rope's bounce
@@ -383,6 +387,37 @@ def test_a_cylinders_payload_rings_on_its_rope_at_its_own_frequency():
     assert zeta == pytest.approx(0.02, rel=0.05)
     x = tr.Y[:, model.output_names.index("x")]
     assert np.abs(x - x[0]).max() < 0.05 * 2e-3
+
+
+def test_a_hook_load_on_a_winch_hangs_on_the_rope_its_drum_pays_out():
+    """Session 43: on a motor (no ends of travel: it turns a drum) the payload's rope winds on
+    the drum, its stiffness EA/L with L = L₀·(1 − wind·θ) (``shaft.wind``, a signed companion
+    started at 0); the rope's sheaves carry dry friction. A vane (stops at its ends) keeps a
+    rope of fixed length. Closed form on the augmented winch: the rope's stiffness at the
+    drum angle θ is k/(1 − wind·θ), read from the model's equations."""
+    net = load_netlist(ROOT / "machines" / "hoist_winch.yaml")
+    ctx = Context(net, set(build_model(net).free_params))
+    c = next(c for c in catalogue(ctx)[0] if c.effect == "payload_swing")
+    by = {q.name.split(".")[1]: q for q in c.params}
+    wind = by["wind"]
+    assert wind.start == 0 and wind.bounds == (-0.5, 0.5) and not wind.primary and not wind.log
+    assert by["tau_c"].start == 0 and not by["tau_c"].primary          # the sheaves' dry friction
+    model = build_model(c.build(net))
+    assert {q.name for q in c.params} <= set(model.free_params)
+    rope = wind.name.split(".")[0]
+    k, w, th, w_drum = 6.0e4, 0.025, 8.0, 0.3      # the drum 8 rad in, hoisting at 0.3 rad/s
+    p = model.param_vector({f"{rope}.k": k, wind.name: w})
+    x = np.zeros(len(model.state_names))
+    x[model.state_index("drum_node.theta")] = th
+    x[model.state_index("drum_node.w")] = w_drum
+    x[model.state_index("chamber_1.p")] = x[model.state_index("chamber_2.p")] = 5e6
+    u = [0.0 if n == "u" else 1.6e7 for n in model.input_names]
+    dx, *_ = model.numpy_evaluate()(0.0, list(x), p, u)
+    # the payload at rest: the rope's torque grows at k/(1 − wind·θ) × the drum's speed
+    assert dx[model.state_index(f"{rope}.tau_k")] == pytest.approx(k / (1 - w * th) * w_drum, rel=1e-9)
+    vane = Context(load_netlist(ROOT / "machines" / "rotary_drive.yaml"), set())
+    cv = next(c for c in catalogue(vane)[0] if c.effect == "payload_swing")
+    assert not any(q.name.endswith(".wind") for q in cv.params)
 
 
 def test_a_swing_the_residual_shows_is_a_start_of_the_payload_candidate(tmp_path):
@@ -1194,10 +1229,12 @@ def test_a_payload_whose_swing_no_rope_makes_is_implausible():
     net = load_netlist(ROOT / "machines" / "hoist_winch.yaml")
     cands, _ = catalogue(Context(net, set(build_model(net).free_params), {"drum_node": (0.0, 8.0)}, {}, {}))
     cand = next(c for c in cands if c.effect == "payload_swing")
-    jp, kp, cp = (p.name for p in cand.params)
+    jp, kp, cp = (p.name for p in cand.params[:3])
 
     def judged(k, j):
-        fit = {"names": [jp, kp, cp], "estimates": [j, k, 50.0], "stderr": [0.01 * j, 0.01 * k, 1.0], "cost": 0.5}
+        rest = cand.params[3:]                 # the rope's winding and the sheaves' friction, unused
+        fit = {"names": [jp, kp, cp, *(q.name for q in rest)], "estimates": [j, k, 50.0, *(q.start for q in rest)],
+               "stderr": [0.01 * j, 0.01 * k, 1.0, *(0.01 for _ in rest)], "cost": 0.5}
         return accept.judge(cand, fit, 1.0, 1e4, 3.0, 0.5, 0.4)
     slow = judged(0.36, 105.0)
     assert not slow["passed"] and any("0.0093 Hz is outside" in r for r in slow["reasons"]), slow["reasons"]

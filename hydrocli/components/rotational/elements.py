@@ -35,16 +35,25 @@ class Inertia(Component):
         c.let("w", c.across("r"))
 
 
+ROPE_MIN = 0.25   # a wound rope's shortest length, as a share of its length at θ = 0 (``Shaft.wind``)
+
+
 @register
 class Shaft(Component):
     """Torsion spring-damper between a and b: τ = k_s(θ_a − θ_b) + b_s(ω_a − ω_b), the spring
     torque a state, dτ_k/dt = k_s(ω_a − ω_b) (seed 001 eqs. 14–15; k_s = 8.9e4 lb·in/rad
     measured, §4.2.2). A hardening ``h`` > 0 (default 0: linear) stiffens it with the torque it
     carries, dτ_k/dt = k_s·(1 + h·τ_k²)(ω_a − ω_b) (a progressive coupling; see ``spring``);
-    the cubic hardening ``hc`` makes it the Duffing spring τ_k = k_s·Δθ·(1 + hc·(k_s·Δθ)²/3)."""
+    the cubic hardening ``hc`` makes it the Duffing spring τ_k = k_s·Δθ·(1 + hc·(k_s·Δθ)²/3).
+
+    A wire rope that a drum at ``a`` pays out, in the drum's coordinates, is this element with
+    the winding ``wind`` = r/L₀ (drum radius over the rope's length at θ_a = 0): a rope's
+    stiffness is EA/L and winding shortens it, L = L₀·(1 − wind·θ_a), so
+    k = k_s/(1 − wind·θ_a), the rope kept at least ``ROPE_MIN`` of L₀ (wind < 0: winding on
+    lengthens it). 0 (default): a shaft."""
 
     type = "shaft"
-    roles = (role(RL.SPRING, {"a": "a", "b": "b"}, stiffness="k", hardening="h", cubic="hc"),)
+    roles = (role(RL.SPRING, {"a": "a", "b": "b"}, stiffness="k", hardening="h", cubic="hc", winding="wind"),)
     family = "rotational"
     description = "Torsion spring-damper shaft (spring torque as state)"
     source = "seed 001 eqs. 14–15, eq. 19"
@@ -55,6 +64,8 @@ class Shaft(Component):
         Param("b", "N*m*s/rad", 0.0, "shaft damping b_s", min=0.0, bounds=(0.0, 1e5)),
         Param("h", "1/(N*m)^2", 0.0, "hardening: the stiffness is k_s·(1 + h·τ_k²) (0: linear)", min=0.0),
         Param("hc", "1/(N*m)^2", 0.0, "cubic hardening: τ_k = k_s·Δθ·(1 + hc·(k_s·Δθ)²/3) (0: linear)", min=0.0),
+        Param("wind", "1/rad", 0.0, "a rope paid out by a drum at a: r/L₀, the stiffness k_s/(1 − wind·θ_a) "
+                                    "(0: a shaft)", bounds=(-1.0, 1.0)),
     )
     states = (StateSpec("tau_k", "N*m", "spring torque k_s(θ_a − θ_b)", nominal=10.0),)
     variables = (VariableSpec("tau", "N*m", "transmitted torque"),)
@@ -63,6 +74,8 @@ class Shaft(Component):
         dw = across_drop(c)
         tk = c.state("tau_k")
         k = spring_stiffness(c.p.k, tk, c.p.h if c.active("h") else None, c.p.hc if c.active("hc") else None)
+        if c.active("wind"):
+            k = k / E.fmax(1.0 - c.p.wind * c.position("a"), ROPE_MIN)
         c.der("tau_k", k * dw)
         branch(c, "tau", tk + (c.p.b * dw if c.active("b") else 0.0))
 

@@ -87,19 +87,15 @@ class MechanicsFamily(Family):
         # v ESR 0.43 % rigid, 0.62 % at the true stiffness as a spring–damper, 0.12 % with the
         # joint friction, noise 0.06 %). Sized in the actuator's force units: up to 10 bar on
         # its area (a tenth of a bar probes it); 0 (unused) leaves the linear link
-        jtype, jrole = ctx.element(R.FRICTION, dom)
-        jname = A.unique_name(ctx.net, f"{act.name}_joint_friction")
-        fs = ctx.size(act) * 1e5
-        coulomb = [f"{jname}.{q}" for q in jrole.params_of("coulomb")]
-        params += [NewParam(q, 0.0, (0.0, 10 * fs), (0.0, 10 * fs), 0.1 * fs, False, primary=False) for q in coulomb]
-        off = {q: 0.0 for slot in ("viscous", "coulomb", "stribeck") for q in jrole.params_of(slot)}
+        joint_params, add_joint = dry_joint(ctx, act, dom, f"{act.name}_joint_friction")
+        params += joint_params
 
         def build(net):
             net = A.move_node(net, rod, load, keep)
             net = A.add(net, rodm, ltype, {lrole.port("node"): rod}, {lrole.param("inertia"): 0.1 * m})
             net = A.add(net, spring, stype, {srole.port("a"): rod, srole.port("b"): load})
             net = A.add(net, damper, dtype, {drole.port("a"): rod, drole.port("b"): load}, {drole.param("damping"): c0})
-            net = A.add(net, jname, jtype, {jrole.port("a"): rod, jrole.port("b"): load}, {**off, "eps": 1e-3})
+            net = add_joint(net, rod, load)
             mapping = {f"{rod}.{q}": f"{load}.{q}" for q in (dom.across, dom.position) if q}
             net = A.rewrite_outputs(net, mapping)
             net = _move_initial(net, rod, load)
@@ -170,6 +166,23 @@ class MechanicsFamily(Family):
         return Candidate("structural_flexibility", act.name, params,
                          build, "force", f"compliant mounting of the body of '{act.name}' (motion measured by "
                                          "the actuator's own transducer, relative to the body)")
+
+
+def dry_joint(ctx: Context, act: Part, dom: Domain, stem: str):
+    """A dry friction element between two nodes of ``dom`` (a joint's pin or bushing, a rope's
+    sheaves), its Coulomb level a companion started at 0 (unused): ``(params, add)``,
+    ``add(net, a, b)`` putting it between nodes a and b. Sized in the actuator's force units:
+    up to 10 bar on its area; a tenth of a bar probes it."""
+    jtype, jrole = ctx.element(R.FRICTION, dom)
+    jname = A.unique_name(ctx.net, stem)
+    fs = ctx.size(act) * 1e5
+    params = [NewParam(f"{jname}.{q}", 0.0, (0.0, 10 * fs), (0.0, 10 * fs), 0.1 * fs, False, primary=False)
+              for q in jrole.params_of("coulomb")]
+    off = {q: 0.0 for slot in ("viscous", "coulomb", "stribeck") for q in jrole.params_of(slot)}
+
+    def add(net, a: str, b: str):
+        return A.add(net, jname, jtype, {jrole.port("a"): a, jrole.port("b"): b}, {**off, "eps": 1e-3})
+    return params, add
 
 
 def _progressive(ctx: Context, act: Part, spring: str, srole) -> list[NewParam]:

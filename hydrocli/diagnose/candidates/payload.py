@@ -31,6 +31,7 @@ from ...components import roles as R
 from ...components.base import Domain
 from .. import augment as A
 from .base import Candidate, Context, Family, NewParam, Part, Skipped
+from .mechanics import dry_joint
 
 G = 9.81
 L_START = 1.0        # m: rope length of the start and probe values (frequency 0.5 Hz)
@@ -42,6 +43,7 @@ ZETA = 0.05          # damping ratio of the start values
 #: ceiling was a 5 mm pendulum's 7 Hz, and such a bounce was out of the stiffness's bounds)
 F_RANGE = ((G / 50.0) ** 0.5 / (2 * math.pi), 30.0)
 K_MAX = 2.0 * (2 * math.pi * F_RANGE[1]) ** 2      # stiffness ceiling per unit of the load's mass or inertia
+WIND_MAX = 0.5       # rad⁻¹: a drum's radius over the rope's length (``_winding``)
 
 
 class PayloadFamily(Family):
@@ -95,17 +97,39 @@ def _payload(ctx: Context, act: Part, node: str, load: Part) -> Candidate:
                        shapes=k_shapes, basins=True),
               NewParam(cp, c0, (1e-6 * J, 1e3 * J), (1e-6 * J, 1e3 * J), critical(k_probe, 0.3 * J), True,
                        primary=False, shapes=tuple(critical(k, 0.3 * J) for k in k_shapes))]
+    params += _winding(act, dom, rope, srole)
+    # the rope's sheaves (a hook block reeved over them, a boom-tip sheave): dry friction that
+    # grows with the tension damps the bounce by a fixed amount per cycle, not a fixed share —
+    # the rod–load link carries its joint's dry friction alike (mechanics.dry_joint), so the
+    # two readings of one two-mass mode are fitted with the same freedoms
+    sheave_params, add_sheaves = dry_joint(ctx, act, dom, f"{swing}_sheaves")
+    params += sheave_params
 
     def build(net):
         net = A.add(net, pj, ltype, {lrole.port("node"): swing}, {lrole.param("inertia"): j0})
         net = A.add(net, rope, stype, {srole.port("a"): node, srole.port("b"): swing}, {srole.param("stiffness"): k0})
         net = A.add(net, loss, dtype, {drole.port("a"): node, drole.port("b"): swing}, {drole.param("damping"): c0})
+        net = add_sheaves(net, node, swing)
         return A.free_new(net, params)
     what = ("a payload swinging on a rope (or a flexible tip) from the arm of '{0}' (tangential spring–mass–damper)"
             if dom == Domain.ROTATIONAL else
             "a payload hanging on a rope (bouncing or swinging) from the load of '{0}' (spring–mass–damper)")
     return Candidate("payload_swing", act.name, params, build, "force", what.format(act.name),
                      checks=(lambda est: _swing_outside(est[kp], est[jp]),))
+
+
+def _winding(act: Part, dom: Domain, rope: str, srole) -> list[NewParam]:
+    """The rope's winding on a drum (``Shaft.wind`` = r/L₀, a companion started at 0, signed):
+    a rotary actuator without ends of travel (a motor, no stop slots) turns a drum, and what
+    hangs from the drum hangs on the rope it pays out — stiffness EA/L with L = L₀ − r·θ, so
+    the bounce stiffens as the load is hoisted (a steel rope's axial stiffness, not a
+    pendulum's g/L). A shaft, a gearbox or a mount keeps its stiffness at every angle:
+    this is what a hook load has and the two-mass readings of the same mode do not. Bounds
+    ±0.5 rad⁻¹: a 0.5 m drum on a 1 m rope to the longest ropes (0 at the start)."""
+    name = srole.param("winding")
+    if dom != Domain.ROTATIONAL or not name or act.param("stop_min") is not None:
+        return []
+    return [NewParam(f"{rope}.{name}", 0.0, (-WIND_MAX, WIND_MAX), (-WIND_MAX, WIND_MAX), 0.0, False, primary=False)]
 
 
 def _swing_outside(k: float, j: float) -> str | None:
