@@ -22,6 +22,11 @@ force) bounces on the rope at √(k/m_p), or, on a luffing boom seen from its cy
 √(g/L); either is a spring–mass–damper on the moved node, the same three identified parameters
 and the same starts. (Until session 40 a cylinder's payload had its rope fixed at 0.5 Hz and
 no damping: any other swing could not be found.)
+
+A hook load under a drum (a winch: a rotary actuator without ends of travel) hangs on the rope
+the drum pays out, whose stiffness EA/L grows as it is wound in: the rope's winding r/L₀ is a
+companion (:func:`_winding`, ``shaft.wind``). The rope's sheaves carry dry friction on every
+payload, as the rod–load link carries its joint's (``mechanics.dry_joint``).
 """
 from __future__ import annotations
 
