@@ -72,13 +72,14 @@ def specific_margins(rows: list[dict]) -> list[tuple[float, str, str]]:
     be the base's: a grown-volume finding's round starts from the finding)."""
     out = []
     for r in rows:
-        floor = noise_floor(r)
-        for c in round1(r):
+        floor, cands = noise_floor(r), round1(r)
+        if floor <= 0:
+            continue
+        for c in cands:
             on_band = not c.get("passed") or c.get("noise_band", 0.0) < 0.9 * LOOK_ELSEWHERE * floor
             if c["effect"] == r["effect"] or other_reasons(c) or not on_band:
                 continue
-            if floor > 0:
-                out.append(((c["validation_gain"] - other_gain(c["effect"], round1(r))) / floor, r["case"], c["effect"]))
+            out.append(((c["validation_gain"] - other_gain(c["effect"], cands)) / floor, r["case"], c["effect"]))
     return sorted(out, reverse=True)
 
 
