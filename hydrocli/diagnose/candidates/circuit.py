@@ -74,9 +74,11 @@ class CircuitFamily(Family):
                 net = A.connect(net, valve, vp, new)
                 # π arrangement: half the hose's capacitance at each end, so the valve-side node
                 # is well posed on its own (seed 002 §2b)
-                net = A.add(net, line, "hose", {"A": new, "B": node}, {"d": 0.01, "arrangement": 0})
+                # its own bulk modulus, given: inherited, freeing it would free the machine's
+                # fluid.beta (every chamber's) at the hose's start and bounds
+                net = A.add(net, line, "hose", {"A": new, "B": node}, {"d": 0.01, "arrangement": 0, "beta": 1.0e9})
             net = A.free_new(net, params)
-            return _initial_like(net, [(new, node) for _, new, node, _ in plan])
+            return _initial_like(net, [(new, node, line) for _, new, node, line in plan])
         return Candidate("line_dynamics", valve, params, build, "continuity",
                          f"hoses between '{valve}' and the actuator: inertance, loss and compliant volume")
 
@@ -141,7 +143,19 @@ def _source_pressure(ctx: Context, src: Part) -> float | None:
         return None
 
 
-def _initial_like(net, pairs):
-    """New nodes start like the node they were split from (its ``initial`` entry, if any)."""
+def _initial_like(net, hoses):
+    """The hoses start in balance: each new valve-side node at the pressure of the chamber it
+    was split from (its ``initial`` entry, if any), the hose's flow what keeps that chamber's
+    pressure still (``balance``), and a state the file balanced on the chamber's pressure (a
+    spool offset that makes up for the valve's leakage) balanced on the node the valve now
+    feeds. Started empty, the hose let a held load sink at t = 0 while its flow built up: on
+    the winch, a hose of 5 cm (2·10⁻⁶ m³, "no effect") moved the start's P1 by 0.7 bar and
+    doubled the training cost of the base it was added to."""
     init = net.doc.get("initial") or {}
-    return A.set_initial(net, {f"{new}.p": init[f"{old}.p"] for new, old in pairs if f"{old}.p" in init})
+    values = {f"{new}.p": init[f"{old}.p"] for new, old, _ in hoses if f"{old}.p" in init}
+    moved = {f"{old}.p": f"{new}.p" for new, old, _ in hoses}
+    for state, rule in init.items():
+        if isinstance(rule, dict) and rule.get("balance") in moved:
+            values[state] = {"balance": moved[rule["balance"]]}
+    values.update({f"{line}.q0": {"balance": f"{old}.p"} for _, old, line in hoses})
+    return A.set_initial(net, values)
