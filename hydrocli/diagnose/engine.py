@@ -120,10 +120,11 @@ def baseline_step(su: Setup, st: Settings, progress=None, run: runaway.Runaway |
     bounds, at_bound = _bounds(model, res0)
     ctx, est, file_values = context(su, base), dict(zip(res0.names, res0.estimates)), dict(zip(res0.names, res0.initial))
     lim = restrain.limits(ctx, est, bounds, file_values, at_bound)
-    lim.update(restrain.grown_volumes(found, bounds))
+    grown = restrain.grown_volumes(found, bounds, ctx, est)
+    lim.update(grown)
     held = restrained.restrained_base(su, base, lim, st, progress) if lim else None
     return Baseline(base, res0, judged, where, white, found, n_eff, held, lim,
-                    restrain.slow_spools(ctx, est, bounds, file_values))
+                    restrain.slow_spools(ctx, est, bounds, file_values), frozenset(grown))
 
 
 def _bounds(model, res) -> tuple[dict[str, tuple[float, float]], set[str]]:
@@ -602,8 +603,8 @@ def _restrained_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict],
         log(progress, f"  the chambers' grown volumes are explained by {rnd.accepted['effect']} on "
                       f"'{rnd.accepted['component']}': the volume finding gives way to it")
         file_bounds, _ = _bounds(b.stage.model, b.fit)
-        volumes = {q["name"] for a in excess for q in a["parameters"]}
-        rnd.stage = restrained.released(su, rnd.stage, {n: file_bounds[n] for n in volumes if n in file_bounds}, st, progress,
+        # the volumes and the oil's bulk modulus behind them (restrain.grown_volumes)
+        rnd.stage = restrained.released(su, rnd.stage, {n: file_bounds[n] for n in b.grown if n in file_bounds}, st, progress,
                                         also_from=free)
         rnd.accepted.update(esr_train_after=rnd.stage.esr_train, esr_validation_after=rnd.stage.esr_validation)
         return rnd, rest

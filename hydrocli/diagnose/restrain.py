@@ -62,6 +62,7 @@ from .measurement import PRESSURE_TAU_BOUNDS, PRESSURE_TAU_TYPICAL, sensor_compo
 
 OIL_MIN = 1.0e9   # Pa: the softest effective bulk modulus of oil in a rigid chamber
 SLOW_TRANSDUCER = 0.95 * PRESSURE_TAU_BOUNDS[1]   # s: a transducer lag pressed against the ceiling
+DRAWN = 1.15   # × the file's chamber volume: a drawing's tolerance (the family perturbs ±15 %)
 SPOOL_TOLERANCE = 1.15   # × the datasheet's spool time constant: a valve of the type, within its batch
 PRESSED = 0.99           # of a bound: a fit estimate pressed against it
 WHY = ("a bulk modulus below oil's, a transducer lag at the measurement model's ceiling, "
@@ -108,14 +109,21 @@ def slow_spools(ctx: Context, estimates: dict[str, float], bounds: dict[str, tup
     return out
 
 
-def grown_volumes(found: list[dict], bounds: dict[str, tuple[float, float]]) -> dict[str, tuple[float, float]]:
+def grown_volumes(found: list[dict], bounds: dict[str, tuple[float, float]], ctx: Context | None = None,
+                  estimates: dict[str, float] | None = None) -> dict[str, tuple[float, float]]:
     """name → restrained bounds for the chamber volumes behind a fluid-compliance finding
     (:func:`findings.fluid_compliance_excess`: every chamber grown alike, one ×``EXCESS`` or
-    more of the drawing's): up to ``EXCESS`` × the file's value, what a drawing's tolerance allows. Grown
-    volumes are a constant, pressure-independent compliance in every chamber; free air softens
-    with falling pressure, a hose adds its volume behind an inertance and a resistance. From the
+    more of the drawing's): up to ``DRAWN`` × the file's value, what a drawing's tolerance
+    allows, and the oil's free bulk modulus in those chambers (``ctx``'s actuator, its role slot
+    ``bulk_modulus``) no softer than the free fit had it (``estimates``). Grown volumes are a
+    constant, pressure-independent compliance V/β in every chamber; free air softens with
+    falling pressure, a hose adds its volume behind an inertance and a resistance. From the
     restrained base the catalogue's air and line candidates say which (each must beat the free
-    base, grown volumes included, like every restrained test)."""
+    base, grown volumes included, like every restrained test). Both halves of V/β are held: a
+    cap on the volumes alone at ×``EXCESS``, the finding's own threshold, left a winch's hoses
+    (constant motor volumes, ×1.5–1.6 grown) to the restrained base's β, and the hose candidate,
+    with nothing left to add, stalled at a 2 cm³ line (dev winch distributed hose, seed 44:
+    ΔBIC +34541, the finding kept its default name, air)."""
     out = {}
     for f in found:
         if f.get("finding") != EXCESS_FINDING:
@@ -123,7 +131,14 @@ def grown_volumes(found: list[dict], bounds: dict[str, tuple[float, float]]) -> 
         for q in f["parameters"]:
             if q["name"] in bounds:
                 lo, hi = bounds[q["name"]]
-                out[q["name"]] = (lo, max(lo, min(hi, EXCESS * q["file_value"])))
+                out[q["name"]] = (lo, max(lo, min(hi, DRAWN * q["file_value"])))
+        if ctx is None or estimates is None:
+            continue
+        for act in ctx.parts(R.ACTUATOR):
+            beta = act.param("bulk_modulus")
+            if act.name == f["component"] and beta in bounds and beta in estimates and beta not in out:
+                lo, hi = bounds[beta]
+                out[beta] = (min(max(lo, estimates[beta]), hi), hi)
     return out
 
 

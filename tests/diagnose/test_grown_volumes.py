@@ -24,7 +24,9 @@ def _excess():
 
 def test_grown_volumes_are_restrained_to_the_drawings_tolerance_and_nothing_else_is():
     lim = restrain.grown_volumes([_excess()], BOUNDS)
-    assert lim == {"vane.V_1": (1e-6, findings.EXCESS * 6e-5), "vane.V_2": (1e-6, findings.EXCESS * 6e-5)}
+    assert lim == {"vane.V_1": (1e-6, restrain.DRAWN * 6e-5), "vane.V_2": (1e-6, restrain.DRAWN * 6e-5)}
+    # a drawing's tolerance, well inside the growth the finding needs
+    assert 1.0 < restrain.DRAWN < findings.EXCESS
     # a parameter finding (a leak moved from 0) or a one-sided volume is not restrained here
     leak = {"effect": "external_leakage", "source": "base_fit", "parameters": [{"name": "vane.V_1", "file_value": 6e-5}]}
     one_side = dict(_excess(), finding="undrawn_volume")
@@ -47,7 +49,8 @@ def _round(monkeypatch, accepted_effect):
         return SimpleNamespace(esr_train={"P1": 0.2}, esr_validation={"P1": 0.1})
     monkeypatch.setattr(restrained, "released", fake_released)
     leak = {"effect": "external_leakage", "component": "vane", "source": "base_fit"}
-    b = SimpleNamespace(restrained="restrained base", located={}, stage=SimpleNamespace(model=None), fit=None)
+    b = SimpleNamespace(restrained="restrained base", located={}, stage=SimpleNamespace(model=None), fit=None,
+                        grown=frozenset({"vane.V_1", "vane.V_2", "vane.beta"}))
     free = "free base"
     said = []
     rnd, carried = engine._restrained_round(None, b, free, [leak, _excess()], engine.Settings(), None, said.append)
@@ -63,7 +66,8 @@ def test_the_volume_finding_steps_aside_and_gives_way_to_the_candidate_that_beat
     # both readings of the grown volumes are fitted, whatever they screen
     assert seen.pop("readings") == {"entrained_air", "line_dynamics"}
     assert seen == {"stage": "restrained base", "accepted": ["external_leakage"], "floor": "free base"}
-    assert released == {"vane.V_1": BOUNDS["vane.V_1"], "vane.V_2": BOUNDS["vane.V_2"]}
+    # the volumes and their oil's modulus get the file's bounds back
+    assert released == {n: BOUNDS[n] for n in ("vane.V_1", "vane.V_2", "vane.beta")}
     assert rnd.accepted["effect"] == "line_dynamics" and rnd.accepted["esr_validation_after"] == {"P1": 0.1}
     assert [a["effect"] for a in carried] == ["external_leakage"]
     assert any("grown volumes are explained by line_dynamics" in m for m in said)
@@ -137,3 +141,56 @@ def test_released_volumes_are_kept_only_when_they_fit_better_and_predict_no_wors
     fitted.update(cost=0.5, val=0.8, starts=[])
     restrained.released(su, stage, {name: (1e-6, 1e-3)}, engine.Settings(), None, also_from=free)
     assert fitted["starts"] == [pytest.approx(stage.p[model.param_index(name)]), pytest.approx(5e-4)]
+
+
+def test_the_oil_behind_grown_volumes_may_not_soften_to_take_their_place():
+    """Both halves of the chambers' compliance V/β are restrained: the volumes to the drawing's
+    tolerance and the actuator's bulk modulus (role slot ``bulk_modulus``) to no softer than
+    the free fit had it — else the restrained base puts the excess into β and leaves the
+    candidates nothing to explain."""
+    from hydrocli.components import roles as R
+    from hydrocli.diagnose.candidates import Context
+    from hydrocli.model.builder import build_model
+    from hydrocli.netlist.loader import load_netlist
+    from pathlib import Path
+    net = load_netlist(Path(__file__).parents[2] / "machines" / "rotary_drive.yaml")
+    ctx = Context(net, set(build_model(net).free_params))
+    vane = ctx.parts(R.ACTUATOR)[0]
+    beta = vane.param("bulk_modulus")
+    excess = dict(_excess(), component=vane.name)
+    lim = restrain.grown_volumes([excess], {**BOUNDS, beta: (3e8, 2.5e9)}, ctx, {beta: 1.3e9})
+    assert lim[beta] == (1.3e9, 2.5e9)
+    # a free fit already at the upper bound leaves the modulus there; no estimate, no restraint
+    assert restrain.grown_volumes([excess], {**BOUNDS, beta: (3e8, 2.5e9)}, ctx, {beta: 3e9})[beta] == (2.5e9, 2.5e9)
+    assert beta not in restrain.grown_volumes([excess], {**BOUNDS, beta: (3e8, 2.5e9)}, ctx, {})
+    # another actuator's finding leaves this one's oil alone
+    assert beta not in restrain.grown_volumes([dict(excess, component="other")], {**BOUNDS, beta: (3e8, 2.5e9)},
+                                              ctx, {beta: 1.3e9})
+
+
+def _misfit_rows(air, line):
+    """Rows whose training fits are (ΔBIC, 2·Δln L) against the grown volumes."""
+    return [{"effect": "entrained_air", "component": "vane", "fitted": True, "delta_bic": air[0], "train_misfit": air[1]},
+            {"effect": "line_dynamics", "component": "valve", "fitted": True, "delta_bic": line[0],
+             "train_misfit": line[1]}]
+
+
+def test_a_reading_that_cannot_reproduce_the_grown_volumes_gives_the_name_to_one_that_can():
+    """Neither reading improves on the grown volumes, but air cannot even fit as well as they
+    do (a compliance that softens with falling pressure is not a constant one), while the
+    hose's ΔBIC is its parameters' penalty alone: the finding is the hose."""
+    f = base_findings.labelled(_excess(), _misfit_rows(air=(2105.0, 2086.0), line=(49.0, -1.0)))
+    assert f["effect"] == "line_dynamics" and f["alternatives"] == ["entrained_air"]
+    assert "cannot reproduce" in f["description"] and "+2086" in f["description"]
+    # the reverse: a hose that cannot, air that can, the name stays air
+    assert base_findings.labelled(_excess(), _misfit_rows(air=(20.0, 1.0), line=(900.0, 850.0)))["effect"] \
+        == "entrained_air"
+    # both refuted, or neither: the training data do not choose, the name stays
+    for air, line in (((900.0, 880.0), (800.0, 750.0)), ((30.0, 5.0), (49.0, -1.0))):
+        f = base_findings.labelled(_excess(), _misfit_rows(air, line))
+        assert f["effect"] == "entrained_air" and "do not tell them apart either" in f["description"]
+    # on top of a grown volume (the late, one-sided finding) either reading can fall back to
+    # "off": a worse fit there says nothing of the compliance, the name stays
+    f = base_findings.labelled(_excess(), _misfit_rows(air=(2105.0, 2086.0), line=(49.0, -1.0)),
+                               basis=base_findings.ON_TOP)
+    assert f["effect"] == "entrained_air"
