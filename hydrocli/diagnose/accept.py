@@ -228,10 +228,7 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
     # still be resolved (a deviation from "off" of a primary parameter known to MAX_REL_SE).
     # failing on the held-out band alone: a first effect may still pass on a specific gain (specific_need)
     band_only = not gain > need_ and len(reasons) == 1 and not imprecise
-    # the training fit alone, without BIC's parameter penalty: n·ln(SSR₁/SSR₀) (−2 Δln L)
-    misfit = dbic - len(cand.params) * float(np.log(max(n_eff, 2.0)))
-    return {"delta_bic": dbic, "train_misfit": misfit, "validation_gain": gain, "noise_band": need_,
-            "passed": not (reasons + imprecise),
+    return {"delta_bic": dbic, "validation_gain": gain, "noise_band": need_, "passed": not (reasons + imprecise),
             "band_only": band_only,
             "reasons": reasons + imprecise, "imprecise": bool(imprecise) and not reasons,
             "bounded": bool(pushed) and reasons == pushed and not imprecise, "small": small}

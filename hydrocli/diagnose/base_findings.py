@@ -5,8 +5,6 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-import numpy as np
-
 from ..components import roles as R
 from . import accept, findings, residuals
 from .candidates import catalogue
@@ -106,12 +104,12 @@ def volumes_to_name(su: Setup, b: Baseline, stage: Stage) -> bool:
     return bool(base_fit_findings(su, stage, judged, late=True))
 
 
-REFUTES = 10.0   # 2·Δln L: "very strong" evidence against a model (Kass & Raftery 1995, table on the 2 ln B scale)
 FROM_DRAWING = ("from the drawn volumes", "fits the training data better than the grown volumes")
 ON_TOP = ("on top of the grown volume", "improves the training fit")
 
 
-def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, str] = FROM_DRAWING) -> dict:
+def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, str] = FROM_DRAWING,
+             on_top: list[dict] = ()) -> dict:
     """A fluid-compliance finding named by what the training data say of its two readings.
     Grown volumes are a constant, pressure-independent compliance; free air softens with
     falling pressure, a hose adds its volume behind an inertance and a resistance. Each
@@ -125,55 +123,38 @@ def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, s
     T-section, from the drawn volumes: line ΔBIC −1621, air +835 (the finding had said air).
     Dev rotary polytropic air (seed 34), one chamber ×1.55: on top of it air −1424, a line +66
     (the finding had said line: the softening at low pressure is what the volume lacks).
-    From the drawn volumes, when neither improves, the reading that cannot even reproduce the
-    grown volumes' fit (its training misfit, ΔBIC without the parameter penalty, above
-    ``REFUTES``) is refuted and the finding takes the name of the one that can: air softens
-    with falling pressure and cannot hold a constant compliance over the pressures recorded,
-    a hose's volume behind a negligible inertance is one (dev winch distributed hose, seed 44:
-    motor volumes ×1.5–1.6, air's best fit worse by 2·Δln L ≈ +2090, the hose's ΔBIC +49, its
-    eight parameters' penalty alone). When both were fitted and neither improves nor is
-    refuted, the name stays and the description says so (dev rotary distributed hose, seed 32:
-    air +41, line +42)."""
-    def fitted_rows(effect):
-        return [r for r in rows if r["effect"] == effect and r.get("fitted") and r.get("delta_bic") is not None]
-
-    def best(effect):
-        return min((r["delta_bic"] for r in fitted_rows(effect)), default=None)
-
-    def refuted(effect):
-        """Its best training fit worse than the grown volumes' by more than ``REFUTES``."""
-        misfit = min((r.get("train_misfit", -np.inf) for r in fitted_rows(effect)), default=-np.inf)
-        return misfit > REFUTES, misfit
-    own = best(finding["effect"])
-    if own is None:
-        return finding
-    fitted = [(alt, d) for alt in finding.get("alternatives", []) if (d := best(alt)) is not None]
-    where, better = basis
-    for alt, d_alt in fitted:
-        if d_alt < 0 <= own:
-            why = f"{where} {alt} {better} (ΔBIC {d_alt:+.0f}), {finding['effect']} does not ({own:+.0f})"
-            return _renamed(finding, alt, why, progress)
-    own_out, own_misfit = refuted(finding["effect"])
-    for alt, d_alt in fitted:
-        alt_out, alt_misfit = refuted(alt)
-        if basis is FROM_DRAWING and d_alt >= 0 and own >= 0 and own_out and not alt_out:
-            why = (f"{where} {finding['effect']} cannot reproduce the compliance the grown volumes hold "
-                   f"(its training fit worse by 2·Δln L = {own_misfit:+.0f}), {alt} can ({alt_misfit:+.0f})")
-            return _renamed(finding, alt, why, progress)
-    alike = [(alt, d) for alt, d in fitted if d >= 0 and own >= 0]
+    ``on_top``: when neither improves from the drawn volumes, the readings fitted on top of
+    the grown volumes (the round from the free base) decide by the same rule — what the
+    constant compliance still lacks: a hose's inertance and loss, or air's softening at low
+    pressure. Dev winch distributed hose (seed 44, motor volumes ×1.5–1.6): from the drawn
+    volumes air +2105, the line +49; on top of the grown volumes the line −59, air +37.
+    When neither decides, the name stays and the description says so (dev rotary distributed
+    hose, seed 32: air +41, line +42)."""
+    def best(effect, rows_):
+        fitted = [r for r in rows_ if r["effect"] == effect and r.get("fitted") and r.get("delta_bic") is not None]
+        return min((r["delta_bic"] for r in fitted), default=None)
+    alike = None
+    for rows_, (where, better) in ((rows, basis), (on_top, ON_TOP)):
+        own = best(finding["effect"], rows_)
+        if own is None:
+            continue
+        fitted = [(alt, d) for alt in finding.get("alternatives", []) if (d := best(alt, rows_)) is not None]
+        for alt, d_alt in fitted:
+            if d_alt < 0 <= own:
+                why = f"{where} {alt} {better} (ΔBIC {d_alt:+.0f}), {finding['effect']} does not ({own:+.0f})"
+                log(progress, f"  the grown volumes are {alt} rather than {finding['effect']}: {why}")
+                others = [e for e in finding["alternatives"] if e != alt]
+                return dict(finding, effect=alt, alternatives=[finding["effect"], *others],
+                            description=f"{finding['description']}; named {alt}: {why}")
+        both = [(alt, d) for alt, d in fitted if d >= 0 and own >= 0]
+        if both and alike is None:
+            alike = (where, better, own, *both[0])
     if alike:
         # both readings fitted and neither improves on the grown volumes: the default name
         # stands, and the finding says the training data do not choose either
-        alt, d_alt = alike[0]
+        where, better, own, alt, d_alt = alike
         return dict(finding, description=f"{finding['description']}; {where} neither reading {better} "
                                          f"({finding['effect']} ΔBIC {own:+.0f}, {alt} {d_alt:+.0f}): the "
                                          "training data do not tell them apart either")
     return finding
 
-
-def _renamed(finding: dict, alt: str, why: str, progress=None) -> dict:
-    """The finding named after its alternative reading ``alt``, for the reason ``why``."""
-    log(progress, f"  the grown volumes are {alt} rather than {finding['effect']}: {why}")
-    others = [e for e in finding["alternatives"] if e != alt]
-    return dict(finding, effect=alt, alternatives=[finding["effect"], *others],
-                description=f"{finding['description']}; named {alt}: {why}")

@@ -531,7 +531,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
     parallel = st.jobs > 1 or st.scheduler
     with (executor(st.jobs, st.scheduler) if parallel else nullcontext(None)) as pool:
         for round_ in range(st.max_effects):
-            rnd = None
+            rnd, drawn = None, None
             if round_ == 0 and b.restrained is not None:
                 # which effect does the implausible value stand for? Tried first; when none
                 # beats the free base, the round runs from the free base as usual
@@ -540,12 +540,15 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                 if rnd.accepted is None:
                     log(progress, "  nothing beats the free base with the implausible values restrained: "
                                   "screening from the free base")
-                    rnd = None
+                    rnd, drawn = None, rnd.rows
             if rnd is None:
                 rnd = round_step(su, stage, accepted, round_, st, pool, b.located, progress,
                                  withdrawn=frozenset(w["key"] for w in withdrawn),
-                                 must_fit=lambda: base_findings.volumes_to_name(su, b, stage))
+                                 readings=_readings(accepted) if drawn is not None else frozenset(),
+                                 must_fit=lambda: drawn is not None or base_findings.volumes_to_name(su, b, stage))
                 rows.extend(rnd.rows)
+                if drawn is not None:
+                    accepted = _name_grown(accepted, drawn, rnd.rows, progress)
                 if round_ == 0 and rnd.accepted is None and b.slow_spools:
                     spool, b_spool, acc = _spool_round(su, b, stage, accepted, st, pool, progress)
                     if spool is not None and spool.accepted is not None:
@@ -592,12 +595,13 @@ def _restrained_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict],
     value stand for? Every candidate must beat the ``free`` base as well. Grown chamber volumes
     (the base fit's fluid-compliance finding) are among the implausible values: their finding
     steps aside while the candidates that could be that compliance (air, a hose) compete, and
-    gives way when one wins. Returns (the round, the accepted list to carry on)."""
+    gives way when one wins. Returns (the round, the accepted list to carry on: the finding,
+    when nothing won, still to be named by its readings' fits, :func:`_name_grown`)."""
     excess = [a for a in accepted if a.get("finding") == findings.EXCESS_FINDING]
     rest = [a for a in accepted if a not in excess]
     # the finding's readings (air, a hose) are fitted whatever they screen: the grown volumes
     # leave them nothing to screen for, and base_findings.labelled names the finding by their fits
-    readings = frozenset(e for a in excess for e in (a["effect"], *a.get("alternatives", [])))
+    readings = _readings(excess)
     rnd = round_step(su, b.restrained, rest, 0, st, pool, b.located, progress, floor=free, readings=readings)
     if rnd.accepted is not None and excess:
         log(progress, f"  the chambers' grown volumes are explained by {rnd.accepted['effect']} on "
@@ -608,7 +612,21 @@ def _restrained_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict],
                                         also_from=free)
         rnd.accepted.update(esr_train_after=rnd.stage.esr_train, esr_validation_after=rnd.stage.esr_validation)
         return rnd, rest
-    return rnd, [base_findings.labelled(a, rnd.rows, progress) if a in excess else a for a in accepted]
+    return rnd, accepted
+
+
+def _readings(accepted: list[dict]) -> frozenset:
+    """The effects a grown-volume finding may be (its effect and alternatives: air, a hose)."""
+    return frozenset(e for a in accepted if a.get("finding") == findings.EXCESS_FINDING
+                     for e in (a["effect"], *a.get("alternatives", [])))
+
+
+def _name_grown(accepted: list[dict], drawn: list[dict], on_top: list[dict], progress) -> list[dict]:
+    """The grown-volume finding named by its readings' fits from the drawn volumes (``drawn``:
+    the restrained round's rows) and, when those do not decide, on top of the grown volumes
+    (``on_top``: the free base's round, :func:`base_findings.labelled`)."""
+    return [base_findings.labelled(a, drawn, progress, on_top=on_top) if a.get("finding") == findings.EXCESS_FINDING
+            else a for a in accepted]
 
 
 def _spool_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict], st: Settings, pool, progress):

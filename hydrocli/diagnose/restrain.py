@@ -54,7 +54,7 @@ from __future__ import annotations
 
 from ..components import roles as R
 from .baseline import MAX_FAR
-from .findings import EXCESS, EXCESS_FINDING
+from .findings import EXCESS_FINDING
 from ..netlist.model import Netlist
 from . import augment
 from .candidates import Context

@@ -168,29 +168,31 @@ def test_the_oil_behind_grown_volumes_may_not_soften_to_take_their_place():
                                               ctx, {beta: 1.3e9})
 
 
-def _misfit_rows(air, line):
-    """Rows whose training fits are (ΔBIC, 2·Δln L) against the grown volumes."""
-    return [{"effect": "entrained_air", "component": "vane", "fitted": True, "delta_bic": air[0], "train_misfit": air[1]},
-            {"effect": "line_dynamics", "component": "valve", "fitted": True, "delta_bic": line[0],
-             "train_misfit": line[1]}]
-
-
-def test_a_reading_that_cannot_reproduce_the_grown_volumes_gives_the_name_to_one_that_can():
-    """Neither reading improves on the grown volumes, but air cannot even fit as well as they
-    do (a compliance that softens with falling pressure is not a constant one), while the
-    hose's ΔBIC is its parameters' penalty alone: the finding is the hose."""
-    f = base_findings.labelled(_excess(), _misfit_rows(air=(2105.0, 2086.0), line=(49.0, -1.0)))
+def test_when_the_drawn_volumes_do_not_decide_the_readings_on_top_of_the_grown_ones_do():
+    """From the drawn volumes neither reading improves on the grown volumes (dev winch hose:
+    air +2105, the line +49, its parameters' penalty); on top of the grown volumes the hose
+    adds what a constant compliance lacks (its inertance and loss: −59) and air adds nothing
+    (+37): the finding is the hose. The same rule the other way keeps air."""
+    f = base_findings.labelled(_excess(), _rows(2105.0, 49.0), on_top=_rows(37.0, -59.0))
     assert f["effect"] == "line_dynamics" and f["alternatives"] == ["entrained_air"]
-    assert "cannot reproduce" in f["description"] and "+2086" in f["description"]
-    # the reverse: a hose that cannot, air that can, the name stays air
-    assert base_findings.labelled(_excess(), _misfit_rows(air=(20.0, 1.0), line=(900.0, 850.0)))["effect"] \
-        == "entrained_air"
-    # both refuted, or neither: the training data do not choose, the name stays
-    for air, line in (((900.0, 880.0), (800.0, 750.0)), ((30.0, 5.0), (49.0, -1.0))):
-        f = base_findings.labelled(_excess(), _misfit_rows(air, line))
-        assert f["effect"] == "entrained_air" and "do not tell them apart either" in f["description"]
-    # on top of a grown volume (the late, one-sided finding) either reading can fall back to
-    # "off": a worse fit there says nothing of the compliance, the name stays
-    f = base_findings.labelled(_excess(), _misfit_rows(air=(2105.0, 2086.0), line=(49.0, -1.0)),
-                               basis=base_findings.ON_TOP)
-    assert f["effect"] == "entrained_air"
+    assert "on top of the grown volume line_dynamics improves the training fit (ΔBIC -59)" in f["description"]
+    assert base_findings.labelled(_excess(), _rows(2105.0, 49.0), on_top=_rows(-80.0, 30.0))["effect"] == "entrained_air"
+    # the drawn volumes decide first: a hose that improves there is named whatever is on top
+    f = base_findings.labelled(_excess(), _rows(835.0, -1621.0), on_top=_rows(-80.0, 30.0))
+    assert f["effect"] == "line_dynamics" and "from the drawn volumes" in f["description"]
+    # neither decides: the name stays and the description says so, once
+    f = base_findings.labelled(_excess(), _rows(2105.0, 49.0), on_top=_rows(37.0, 12.0))
+    assert f["effect"] == "entrained_air" and f["description"].count("do not tell them apart") == 1
+
+
+def test_the_free_base_round_fits_the_readings_and_names_the_finding_from_both(monkeypatch):
+    """In the diagnosis loop: the restrained round accepts nothing, the round from the free
+    base fits the finding's readings whatever they screen, and the finding is named from both
+    rounds' rows (engine._name_grown)."""
+    calls = []
+    monkeypatch.setattr(base_findings, "labelled", lambda a, drawn, progress=None, on_top=(): calls.append(
+        (drawn, on_top)) or dict(a, effect="line_dynamics"))
+    excess = _excess()
+    out = engine._name_grown([{"effect": "sensor_lag"}, excess], ["drawn rows"], ["on-top rows"], None)
+    assert [a["effect"] for a in out] == ["sensor_lag", "line_dynamics"] and calls == [(["drawn rows"], ["on-top rows"])]
+    assert engine._readings([{"effect": "sensor_lag"}, excess]) == {"entrained_air", "line_dynamics"}
