@@ -157,4 +157,3 @@ def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, s
                                          f"({finding['effect']} ΔBIC {own:+.0f}, {alt} {d_alt:+.0f}): the "
                                          "training data do not tell them apart either")
     return finding
-

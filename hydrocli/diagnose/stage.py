@@ -93,7 +93,7 @@ class Baseline:
     restrained: Stage | None = None   # the base re-fitted with implausible values restrained (:mod:`.restrain`)
     restraints: dict = field(default_factory=dict)
     slow_spools: dict = field(default_factory=dict)   # spool time constants at their ceiling (:func:`.restrain.slow_spools`)
-    grown: frozenset = frozenset()   # of ``restraints``: the grown volumes and their oil's modulus (:func:`.restrain.grown_volumes`)
+    grown: frozenset = frozenset()   # of ``restraints``: grown volumes and their oil's modulus (:func:`.restrain.grown_volumes`)
 
 
 @dataclass

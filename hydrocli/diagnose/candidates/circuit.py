@@ -149,8 +149,9 @@ def _initial_like(net, hoses):
     pressure still (``balance``), and a state the file balanced on the chamber's pressure (a
     spool offset that makes up for the valve's leakage) balanced on the node the valve now
     feeds. Started empty, the hose let a held load sink at t = 0 while its flow built up: on
-    the winch, a hose of 5 cm (2·10⁻⁶ m³, "no effect") moved the start's P1 by 0.7 bar and
-    doubled the training cost of the base it was added to."""
+    the held winch a hose of 5 cm (4·10⁻⁶ m³, "no effect") moved P1 by 3.4 bar and the drum by
+    5.6 mrad within 0.3 s, and its "off" start cost 2.5× the training cost of the base it was
+    added to (dev winch hose, seed 43), so every line fit began in that hole."""
     init = net.doc.get("initial") or {}
     values = {f"{new}.p": init[f"{old}.p"] for new, old, _ in hoses if f"{old}.p" in init}
     moved = {f"{old}.p": f"{new}.p" for new, old, _ in hoses}
