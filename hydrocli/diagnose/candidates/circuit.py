@@ -11,6 +11,7 @@ from .base import Candidate, Context, Family, NewParam, Part, Skipped
 
 
 BORE = 0.01              # m: a hose's bore to start from (3/8 in)
+HOSE_BETA = 1.0e9        # Pa: a hose's effective bulk modulus (oil and wall) to start from
 BORES = (0.004, 0.032)   # m: 5/32 in … 1 1/4 in, SAE 100R hoses of mobile and industrial machines
 DP_LAM = registry.get("orifice").param("dp_lam").default   # Pa: the orifice's own transition (turbulent)
 DP_LAM_BOUNDS = (1.0e4, 5.0e7)  # Pa: from a sharp orifice to a line laminar over every supply drop
@@ -54,7 +55,7 @@ class CircuitFamily(Family):
             # 0.2–1 GPa, a steel pipe near oil's) sets how much of that volume is compliance —
             # a companion, since hoses of one bore differ in wall stiffness (SAE 100R1 to R12)
             params.append(NewParam(f"{line}.l", 0.05, (0.01, 20.0), (0.2, 20.0), 2.0, True))
-            params.append(NewParam(f"{line}.beta", 1.0e9, (5e7, 2.5e9), (1e8, 2.5e9), 1.0e9, True, primary=False))
+            params.append(NewParam(f"{line}.beta", HOSE_BETA, (5e7, 2.5e9), (1e8, 2.5e9), HOSE_BETA, True, primary=False))
             params.append(NewParam(f"{line}.d", BORE, BORES, BORES, BORE, True, primary=False,
                                    shapes=tuple(d for d, _ in BORE_SPLIT)))
             # where the lump's oil volume sits (a companion): one lump cannot say whether the
@@ -76,7 +77,7 @@ class CircuitFamily(Family):
                 # is well posed on its own (seed 002 §2b)
                 # its own bulk modulus, given: inherited, freeing it would free the machine's
                 # fluid.beta (every chamber's) at the hose's start and bounds
-                net = A.add(net, line, "hose", {"A": new, "B": node}, {"d": 0.01, "arrangement": 0, "beta": 1.0e9})
+                net = A.add(net, line, "hose", {"A": new, "B": node}, {"d": BORE, "arrangement": 0, "beta": HOSE_BETA})
             net = A.free_new(net, params)
             return _initial_like(net, [(new, node, line) for _, new, node, line in plan])
         return Candidate("line_dynamics", valve, params, build, "continuity",
