@@ -275,7 +275,10 @@ def main(argv=None) -> int:
     if a.cases:
         cases = [c for c in cases if any(k in c.name for k in a.cases)]
     if a.skip:
-        done = {r["case"] for f in a.skip if f.exists() for r in json.loads(f.read_text()).get("cases", [])}
+        missing = [str(f) for f in a.skip if not f.is_file()]
+        if missing:   # e.g. `--skip rotary`: a machine is not a results file (use --machines)
+            ap.error(f"--skip takes results JSONs of earlier runs; not a file: {', '.join(missing)}")
+        done = {r["case"] for f in a.skip for r in json.loads(f.read_text()).get("cases", [])}
         cases = [c for c in cases if c.name not in done]
     cases = cases[:a.limit] if a.limit else cases
     if not cases:

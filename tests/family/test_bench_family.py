@@ -154,3 +154,11 @@ def test_a_case_is_resolvable_when_the_base_fit_leaves_room_for_an_effect_to_pas
     m = bench.aggregate(rows)["per_machine"]["winch"]
     assert (m["top1_ge1"], m["effect_cases_ge1"]) == (1, 3)
     assert (m["top1_resolvable_ge1"], m["resolvable_ge1"]) == (1, 2)
+
+
+def test_skip_names_results_files_and_a_machine_name_there_is_an_error(tmp_path, capsys):
+    """``--skip rotary`` once ran every rotary case (a missing path was ignored): now exit 2."""
+    with pytest.raises(SystemExit) as exc:
+        bench.main(["--data", str(tmp_path), "--skip", "rotary"])
+    assert exc.value.code == 2
+    assert "not a file: rotary" in capsys.readouterr().err
