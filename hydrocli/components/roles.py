@@ -36,6 +36,10 @@ tank               ports node
 volume             ports node; params volume, air, bulk_modulus
 restriction        ports a, b; params conductance (turbulent: q = K·√Δp)
 laminar_restriction ports a, b; params resistance (Δp = R·q)
+weight             ports node; params weight (a gravity load's force or moment), hanging (a
+                   pendulum load's angle from hanging straight down at θ = 0)
+pendulum           ports node; params inertia, stiffness, damping, hanging (a payload on a
+                   rope from an arm's tip, swinging in gravity's frame)
 =================  ==========================================================================
 """
 from __future__ import annotations
@@ -53,6 +57,8 @@ TANK = "tank"
 VOLUME = "volume"
 RESTRICTION = "restriction"
 LAMINAR_RESTRICTION = "laminar_restriction"
+WEIGHT = "weight"
+PENDULUM = "pendulum"
 
 
 @dataclass(frozen=True)

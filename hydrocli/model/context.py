@@ -34,6 +34,10 @@ def across_name(node: str, domain: Domain) -> str:
     return f"{node}.{domain.across}" if domain != Domain.SIGNAL else node
 
 
+def rate_name(node: str, domain: Domain) -> str:
+    return f"{node}.{domain.across}_rate"
+
+
 def position_name(node: str, domain: Domain) -> str:
     return f"{node}.{domain.position}"
 
@@ -53,6 +57,7 @@ class Assembly:
     warnings: list[str] = field(default_factory=list)
     position_requests: set[str] = field(default_factory=set)  # node names whose position is read
     node_through_requests: set[str] = field(default_factory=set)
+    rate_requests: set[str] = field(default_factory=set)     # node names whose across rate is read
 
 
 class Context:
@@ -134,6 +139,17 @@ class Context:
         """Add V/β (hydraulic), mass (translational) or inertia (rotational) to a node."""
         n = self.node(port)
         n.capacitance.append((self.name, E.as_expr(value)))
+
+    def rate(self, port: str) -> E.Expr:
+        """d(across)/dt at a port's node (acceleration, angular acceleration): the node's own
+        balance −Σthrough/ΣC, a function of the states, for an element whose own states are
+        driven by the motion it rides on (a pendulum on an arm). A node whose across value a
+        source imposes has none (reading it is an error)."""
+        n = self.node(port)
+        if n.is_reference:
+            return E.const(0.0)
+        self._asm.rate_requests.add(n.name)
+        return E.var(rate_name(n.name, n.domain))
 
     def impose(self, port: str, across, position=None) -> None:
         """Make this component the source of the node's across value (and position)."""

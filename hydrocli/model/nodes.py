@@ -14,7 +14,7 @@ from ..errors import Location, Problem
 from ..graph.linear import Branch, Kind, LinearGraph
 from ..graph.topology import NormalTree
 from . import expr as E
-from .context import Assembly, NodeInfo, across_name, position_name
+from .context import Assembly, NodeInfo, across_name, position_name, rate_name
 
 
 def node_equations(asm: Assembly, g: LinearGraph, tree: NormalTree,
@@ -55,6 +55,10 @@ def _imposed(asm: Assembly, node: NodeInfo, src, loc: Location) -> Problem | Non
             return Problem(f"the position of node '{node.name}' is needed but its source "
                            f"'{src.component}' imposes only a {dom.across}", loc,
                            "give the node a mass, or a source that also imposes position")
+    if node.name in asm.rate_requests:
+        return Problem(f"the rate of change of {dom.across} at node '{node.name}' is needed but its source "
+                       f"'{src.component}' imposes the {dom.across}", loc,
+                       "give the node a mass or inertia of its own (a load between the source and the element)")
     return None
 
 
@@ -69,6 +73,9 @@ def _capacitive_node(asm: Assembly, node: NodeInfo) -> None:
     cap_name = f"{node.name}.{dom.capacitance_name}"
     asm.variables[cap_name] = total_cap
     asm.derivatives[aname] = -total_through / E.var(cap_name)
+    if node.name in asm.rate_requests:
+        asm.variables[rate_name(node.name, dom)] = asm.derivatives[aname]
+        asm.variable_units[rate_name(node.name, dom)] = f"({dom.across_unit})/s"
     if dom.position:
         pname = position_name(node.name, dom)
         asm.states[pname] = (dom.position_unit, 0.0, dom.nominal_position, f"{dom.position} of node {node.name}")

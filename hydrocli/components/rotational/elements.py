@@ -118,6 +118,7 @@ class GravityLoad(Component):
     """Gravity torque −W·sin(θ + θ0) on a pendulum load (seed 001 eq. 15, W_l = m·g·r)."""
 
     type = "gravity_load"
+    roles = (role(RL.WEIGHT, {"node": "r"}, weight="W", hanging="theta0"),)
     family = "rotational"
     description = "Gravity torque of a pendulum load, −W·sin(θ + θ0)"
     source = "seed 001 eq. 15"
