@@ -198,3 +198,23 @@ def test_hanging_payload_shares_the_weight_and_bounces_on_its_rope(form):
         peaks = [s[a:b].max() for a, b in zip(up[:-1], up[1:])]
         loss = 4 * 0.0005 * 0.3 * W / k if sheave else 0.0          # amplitude lost per cycle
         assert np.diff(peaks) == pytest.approx(-loss * np.ones(len(peaks) - 1), abs=0.05 * 4 * 0.0005 * 0.3 * W / k)
+
+
+def test_a_mounted_vanes_arm_weighs_at_its_absolute_angle():
+    """A vane on a compliant mount: the encoder reads the stroke (arm relative to housing), the
+    arm hangs at stroke + housing deflection and its weight acts there. Arm and housing without
+    hydraulics, friction or damping: ½J(θ̇+θ̇_b)² + ½J_b θ̇_b² + ½k_b θ_b² + W(1 − cos(θ + θ_b)) is
+    constant (with the weight at the stroke alone it is not: session 45)."""
+    from experiments.family.truth.forms import CompliantMount
+    p = dict(MACHINES["rotary"].nominal)
+    p.update(kv_p=0.0, kv_m=0.0, kc_p=0.0, kc_m=0.0, A_A=1e-12, A_B=1e-12)
+    eff = CompliantMount(m_b=0.2, k_b=300.0, c_b=0.0)
+    m = ActuatorTruth(p, eff, _closed_valve(3.0))
+    y0 = m.initial_state(0.4, 5e6, 5e6)
+    y0[m.n_base] = 0.05                                    # housing deflected
+    sol = m.simulate(np.linspace(0, 3.0, 3001), y0, rtol=1e-10, max_step=1e-3)
+    x, v, xb, vb = sol.y[5], sol.y[6], sol.y[m.n_base], sol.y[m.n_base + 1]
+    E = (0.5 * p["m"] * (v + vb) ** 2 + 0.5 * 0.2 * vb ** 2 + 0.5 * 300.0 * xb ** 2
+         + p["W"] * (1.0 - np.cos(x + xb + p["theta0"])))
+    assert np.ptp(xb) > 0.05 and np.ptp(x) > 0.3
+    assert np.ptp(E) < 1e-6 * np.max(E)

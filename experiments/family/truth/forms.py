@@ -339,7 +339,8 @@ class FrictionJointCompliance(Effect):
 class CompliantMount(Effect):
     name = "structural_flexibility"
     form = ("cylinder body (mass m_b) on a compliant mount: F_mount = k_b d + k3 d^3 + c_b d'; "
-            "the position sensor measures the stroke (rod relative to body)")
+            "the position sensor measures the stroke (rod relative to body); the load's weight acts "
+            "at its absolute position, stroke + body deflection (an arm's gravity moment)")
 
     def setup(self, model):
         model.layout.add("xb", "vb")
@@ -347,6 +348,12 @@ class CompliantMount(Effect):
     def piston_accel(self, model, y, Fp, F, Ff, dy):
         p, i, m = self.params, model.n_base, model.p["m"]
         xb, vb = y[i], y[i + 1]
+        # the load sits where the stroke AND the body's deflection put it: a vane's arm hangs at
+        # θ_stroke + θ_body, its weight moment W·sin of that (a cylinder's weight is constant).
+        # Until session 45 the weight was taken at the stroke alone, as if the mount deflected
+        # the arm's gravity with the housing
+        if hasattr(model, "load_force"):     # the EHA's load is an external force input
+            F = F - model.load_force(y[5]) + model.load_force(y[5] + xb)
         Fm = p["k_b"] * xb + p.get("k3", 0.0) * xb ** 3 + p["c_b"] * vb
         ab = (-Fp + Ff - Fm) / p["m_b"]
         dy[i] = vb
