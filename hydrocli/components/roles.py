@@ -38,8 +38,8 @@ restriction        ports a, b; params conductance (turbulent: q = K·√Δp)
 laminar_restriction ports a, b; params resistance (Δp = R·q)
 weight             ports node; params weight (a gravity load's force or moment), hanging (a
                    pendulum load's angle from hanging straight down at θ = 0)
-pendulum           ports node; params inertia, stiffness, damping, hanging (a payload on a
-                   rope from an arm's tip, swinging in gravity's frame)
+pendulum           ports node; params inertia (m_p·r²), length (the rope's), radius (the arm's
+                   to the rope), damping, hanging (a payload on a rope from an arm's tip)
 =================  ==========================================================================
 """
 from __future__ import annotations

@@ -16,6 +16,10 @@ of critical, and the swing is tried at three frequencies (rope lengths 1 m, 10 c
 the 0.5 Hz start alone the fit let the spring go slack and nothing was found), and at the
 frequencies where the base fit's residual spectra peak: a lightly damped swing is a narrow
 basin (a rope payload swinging at 0.70 Hz, started at 0.5 Hz, fitted a 15 Hz spring).
+That spring–mass is a mass on a flexible tip at every angle, and a rope only at the hanging
+pose: an arm that carries a weight (it swings in a vertical plane) is also offered the exact
+pendulum on its swinging tip (``_on_a_rope``, ``hanging_payload``), whose coupling falls as the
+arm leaves the hanging pose and whose tension follows the tip's acceleration (session 45).
 
 Translational: the payload m_p on a rope of stiffness k (its weight is already in the load's
 force) bounces on the rope at √(k/m_p), or, on a luffing boom seen from its cylinder, swings at
@@ -81,10 +85,7 @@ class PayloadFamily(Family):
 
 
 def _payload(ctx: Context, act: Part, node: str, load: Part) -> list[Candidate]:
-    try:
-        J = abs(float(ctx.value(load.param("inertia"))))
-    except (KeyError, TypeError, ValueError):
-        J = 1.0
+    J = _value(ctx, load.param("inertia"), 1.0)
     J_max = 2.0 * max(J, _ceiling(ctx, load.param("inertia")))
     dom = ctx.domain(node)
     ltype, lrole = ctx.element(R.LOAD, dom)
