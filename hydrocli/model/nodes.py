@@ -73,9 +73,10 @@ def _capacitive_node(asm: Assembly, node: NodeInfo) -> None:
     cap_name = f"{node.name}.{dom.capacitance_name}"
     asm.variables[cap_name] = total_cap
     asm.derivatives[aname] = -total_through / E.var(cap_name)
-    if node.name in asm.rate_requests:
-        asm.variables[rate_name(node.name, dom)] = asm.derivatives[aname]
-        asm.variable_units[rate_name(node.name, dom)] = f"({dom.across_unit})/s"
+    if node.name in asm.rate_requests:   # named once: the node's derivative and its readers share it
+        rname = rate_name(node.name, dom)
+        asm.variables[rname], asm.variable_units[rname] = asm.derivatives[aname], f"({dom.across_unit})/s"
+        asm.derivatives[aname] = E.var(rname)
     if dom.position:
         pname = position_name(node.name, dom)
         asm.states[pname] = (dom.position_unit, 0.0, dom.nominal_position, f"{dom.position} of node {node.name}")

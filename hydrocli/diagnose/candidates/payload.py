@@ -114,8 +114,8 @@ def _payload(ctx: Context, act: Part, node: str, load: Part) -> list[Candidate]:
                        primary=False, shapes=tuple(critical(k, 0.3 * J) for k in k_shapes))]
     # an arm swinging in a vertical plane: what hangs from its tip on a rope swings in
     # gravity's frame, a mass on a flexible tip in the arm's; both are offered
-    hanging = _hanging(ctx, node, dom)
-    on_a_rope = [] if hanging is None else [_on_a_rope(ctx, act, node, hanging, load, params[0])]
+    weight = _weight(ctx, node, dom)
+    on_a_rope = [] if weight is None else [_on_a_rope(ctx, act, node, weight, J, params[0])]
     params += _winding(act, dom, rope, srole)
     # the rope's sheaves (a hook block reeved over them, a boom-tip sheave): dry friction that
     # grows with the tension damps the bounce by a fixed amount per cycle, not a fixed share —
@@ -137,30 +137,22 @@ def _payload(ctx: Context, act: Part, node: str, load: Part) -> list[Candidate]:
                       checks=(lambda est: _swing_outside(est[kp], est[jp]),))] + on_a_rope
 
 
-def _hanging(ctx: Context, node: str, dom: Domain) -> float | None:
-    """The angle θ0 at which the arm on ``node`` hangs straight down (its gravity load's
-    ``hanging`` slot), when a rotational node carries a weight: the arm swings in a vertical
-    plane and what hangs from its tip swings in gravity's frame. None otherwise (a slewing
-    joint, a drum, a cylinder)."""
+def _weight(ctx: Context, node: str, dom: Domain) -> Part | None:
+    """The weight (a gravity load offering its ``hanging`` angle) on a rotational ``node``: the
+    arm swings in a vertical plane and what hangs from its tip swings in gravity's frame. None
+    otherwise (a slewing joint, a drum, a cylinder)."""
     if dom != Domain.ROTATIONAL:
         return None
-    for w in ctx.parts_on(node, R.WEIGHT, "node"):
-        name = w.param("hanging")
-        if name is None:
-            continue
-        try:
-            return float(ctx.value(name))
-        except (KeyError, TypeError, ValueError):
-            return 0.0      # the slot's parameter left at its default
-    return None
+    return next((w for w in ctx.parts_on(node, R.WEIGHT, "node") if w.param("hanging") is not None), None)
 
 
-def _on_a_rope(ctx: Context, act: Part, node: str, theta0: float, load: Part, swing: NewParam) -> Candidate:
+def _on_a_rope(ctx: Context, act: Part, node: str, weight: Part, J: float, swing: NewParam) -> Candidate:
     """The payload of an arm that swings in a vertical plane: one ``hanging_payload`` element
     (:mod:`hydrocli.components.rotational.hanging`, the exact pendulum on a moving support) on
-    the joint. Its inertia m_p·r² is the spring–mass's (same start, bounds and grid); the rope's
-    length L takes the spring–mass's swing frequencies as its shapes (L = g/(2πf)², a basin
-    each), the arm's radius r starts at twice the weight's lever g·J/W (a uniform arm's tip at
+    the joint, hanging where ``weight`` (the arm's gravity load) hangs. Its inertia m_p·r² is
+    the spring–mass's (same start, bounds and grid); the rope's length L takes the
+    spring–mass's swing frequencies as its shapes (L = g/(2πf)², a basin each), the arm's
+    radius r starts at twice the weight's lever g·J/W (a uniform arm's tip at
     1.5×) and the rope's damping at 5 % of critical. No sheaves: a rope from an arm's tip runs
     over none. Dev vane, rope payloads swinging at 0.7 Hz on an arm sweeping ±0.8 rad whose
     tip accelerates at up to 4 g: the spring–mass on the joint left P1 1.35 → 0.93 % and
@@ -168,9 +160,11 @@ def _on_a_rope(ctx: Context, act: Part, node: str, theta0: float, load: Part, sw
     ptype, prole = ctx.element(R.PENDULUM, Domain.ROTATIONAL)
     el = A.unique_name(ctx.net, f"{node}_hanging_payload")
     jp, ln, rn, cn = (f"{el}.{prole.param(k)}" for k in ("inertia", "length", "radius", "damping"))
-    J = _value(ctx, load.param("inertia"), 1.0)
-    weights = ctx.parts_on(node, R.WEIGHT, "node")
-    W = _value(ctx, weights[0].param("weight"), 0.0) if weights else 0.0
+    W = _value(ctx, weight.param("weight"), 0.0)
+    try:      # the angle at which the arm hangs straight down; left at its default (0) when not given
+        theta0 = float(ctx.value(weight.param("hanging")))
+    except (KeyError, TypeError, ValueError):
+        theta0 = 0.0
     r0 = min(max(2.0 * G * J / W, R_BOUNDS[0]), R_BOUNDS[1]) if W > 0 else 1.0
     lengths = [G / (2 * math.pi * f) ** 2 for f in ctx.residual_peaks_hz if SWING_HZ[0] <= f <= SWING_HZ[1]][:2]
     l_shapes = tuple(min(max(x, L_BOUNDS[0]), L_BOUNDS[1]) for x in (*L_SHAPES, *lengths))
