@@ -53,12 +53,7 @@ def set_values(net: Netlist, values: dict[str, float]) -> Netlist:
 def free(net: Netlist, name: str, start: float, bounds: tuple[float, float], log: bool | None = None) -> Netlist:
     """Set ``name`` to ``start`` and mark it free within ``bounds`` (SI)."""
     net = set_values(net, {name: start})
-    doc = writer.with_free(net, param_slot(net, name), True, bounds)
-    if log is not None:
-        comp, _, pname = param_slot(net, name).rpartition(".")
-        holder = doc["fluid"] if comp == "fluid" else doc["components"][comp]
-        holder[pname]["log"] = bool(log)
-    return reload_doc(net, doc)
+    return reload_doc(net, writer.with_free(net, param_slot(net, name), True, bounds, log))
 
 
 def free_new(net: Netlist, params) -> Netlist:

@@ -27,7 +27,8 @@ from ..experiments.experiment_file import load_all
 from ..executor import executor
 from ..identify.fit import sensitivities_available
 from ..model.builder import build_model
-from ..netlist.loader import load_netlist
+from ..netlist.flatten import flat_doc, is_flat
+from ..netlist.loader import load_doc, load_netlist
 from . import (accept, augment, backward, base_findings, baseline, candidate_fits, design, findings, locate, nuisance,
                ranking, residuals, restrain, restrained, runaway, short_horizon, stats, travel, workers)
 from .candidates import COMPLIANCES, SWITCHING, Candidate, catalogue
@@ -57,6 +58,10 @@ def _inputs_start(model, exps) -> dict:
 # -- step 1 -------------------------------------------------------------------------------
 def prepare(machine, train_paths, validate_paths, settings: Settings) -> Setup:
     net0 = load_netlist(machine)
+    if not is_flat(net0):
+        # every candidate edits components of the main document; a template instance's or an
+        # included file's exist only after loading (knuckle-boom crane: KeyError 'inner.dcv')
+        net0 = load_doc(flat_doc(net0), net0.file)
     net, sensors = with_pressure_sensors(net0)
     found = []
     if settings.nuisance:

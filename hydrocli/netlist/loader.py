@@ -70,6 +70,12 @@ def load_doc(doc, file: str, text: str = "") -> Netlist:
                    text=text, doc=doc, unit_defaults=defaults)
 
 
+def merged_sections(doc, file: str) -> dict:
+    """The sections of a (valid) machine document merged over those of its includes, as the
+    loader reads them: mapping sections as {key: (value, parent map, file)}."""
+    return _merge_includes(doc, file, Errors(), seen=(str(Path(file).resolve()),), budget=[MAX_INCLUDES])
+
+
 # -- sections ----------------------------------------------------------------------------
 def _merge_includes(doc, file: str, errs: Errors, seen: tuple[str, ...], budget: list[int]) -> dict:
     """Sections of this file merged over those of its includes.

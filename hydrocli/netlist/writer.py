@@ -102,10 +102,12 @@ def set_free(net: Netlist, name: str, free: bool, bounds: tuple[float, float] | 
     return Y.dump_text(with_free(net, name, free, bounds))
 
 
-def with_free(net: Netlist, name: str, free: bool, bounds: tuple[float, float] | None = None) -> CommentedMap:
-    """:func:`set_free`'s edited document (a copy)."""
+def with_free(net: Netlist, name: str, free: bool, bounds: tuple[float, float] | None = None,
+              log: bool | None = None) -> CommentedMap:
+    """:func:`set_free`'s edited document (a copy); ``log``: also say whether the fit moves the
+    parameter on a log scale."""
     doc = copy_doc(net)
-    _Slot(net, doc, name).set_free(free, bounds)
+    _Slot(net, doc, name).set_free(free, bounds, log)
     return doc
 
 
@@ -321,18 +323,20 @@ class _Slot:
         else:
             self.map[self.key] = new
 
-    def set_free(self, free: bool, bounds) -> None:
+    def set_free(self, free: bool, bounds, log: bool | None = None) -> None:
         raw = self.map.get(self.key)
         if Y.is_map(raw):
             raw["free"] = free
             if bounds is not None:
                 raw["bounds"] = _flow_seq([self._render(b) for b in bounds])
-            return
-        value = raw if raw is not None else self._render(self.pv.value if self.pv else 0.0)
-        if not free and bounds is None:
-            self.map[self.key] = value
-            return
-        self._write_map(value, free, bounds)
+        else:
+            value = raw if raw is not None else self._render(self.pv.value if self.pv else 0.0)
+            if not free and bounds is None and log is None:
+                self.map[self.key] = value
+                return
+            self._write_map(value, free, bounds)
+        if log is not None:
+            self.map[self.key]["log"] = bool(log)
 
     def _write_map(self, value, free, bounds) -> None:
         m = CommentedMap()

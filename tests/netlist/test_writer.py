@@ -148,3 +148,23 @@ def test_nested_template_and_included_components(tmp_path):
     assert (tmp_path / "lib.yaml").read_text() == lib_before
     with pytest.raises(NetlistError, match="lib.yaml; edit that file"):
         W.set_port(net, "t", "T", "m")
+
+
+def test_free_on_a_log_scale_reaches_a_template_instances_parameter():
+    # the diagnosis frees a valve's spool lag on a log scale; on a crane whose valves sit in
+    # template instances that edit had raised KeyError 'inner.dcv' (the instance's components
+    # are not keys of the document)
+    text = textwrap.dedent("""\
+        templates:
+          leg:
+            ports: [P]
+            components:
+              vol: {type: volume, ports: {P: P}, V: "1 L"}
+        components:
+          t: {type: tank, ports: {T: n}}
+          a: {template: leg, ports: {P: n}}
+        """)
+    net = load_netlist_text(text, "m.yaml")
+    doc = W.with_free(net, "a.vol.V", True, (5e-4, 4e-3), log=True)
+    v = load_netlist_text(W.Y.dump_text(doc), "m.yaml").components["a.vol"].params["V"]
+    assert v.free and v.log and v.bounds == pytest.approx((5e-4, 4e-3)) and v.value == pytest.approx(1e-3)
