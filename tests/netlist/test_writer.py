@@ -58,20 +58,22 @@ def test_file_default_units_are_used_for_bare_numbers():
     assert load_netlist_text(new, "m.yaml").components["s"].params["p"].value == pytest.approx(3.5e5)
 
 
-def test_template_instance_parameters_become_overrides():
-    text = textwrap.dedent("""\
-        templates:
-          leg:
-            ports: [P]
-            components:
-              vol: {type: volume, ports: {P: P}, V: "1 L"}
+LEG = textwrap.dedent("""\
+    templates:
+      leg:
+        ports: [P]
         components:
-          t: {type: tank, ports: {T: n}}
-          a:
-            template: leg   # first leg
-            ports: {P: n}
-        """)
-    net = load_netlist_text(text, "m.yaml")
+          vol: {type: volume, ports: {P: P}, V: "1 L"}
+    components:
+      t: {type: tank, ports: {T: n}}
+      a:
+        template: leg   # first leg
+        ports: {P: n}
+    """)   # a machine with one template instance
+
+
+def test_template_instance_parameters_become_overrides():
+    net = load_netlist_text(LEG, "m.yaml")
     new = W.set_parameters(net, {"a.vol.V": 2e-3})
     assert 'vol.V: "2 L"' in new and "# first leg" in new   # in the unit the template used
     assert load_netlist_text(new, "m.yaml").components["a.vol"].params["V"].value == pytest.approx(2e-3)
@@ -154,17 +156,7 @@ def test_free_on_a_log_scale_reaches_a_template_instances_parameter():
     # the diagnosis frees a valve's spool lag on a log scale; on a crane whose valves sit in
     # template instances that edit had raised KeyError 'inner.dcv' (the instance's components
     # are not keys of the document)
-    text = textwrap.dedent("""\
-        templates:
-          leg:
-            ports: [P]
-            components:
-              vol: {type: volume, ports: {P: P}, V: "1 L"}
-        components:
-          t: {type: tank, ports: {T: n}}
-          a: {template: leg, ports: {P: n}}
-        """)
-    net = load_netlist_text(text, "m.yaml")
+    net = load_netlist_text(LEG, "m.yaml")
     doc = W.with_free(net, "a.vol.V", True, (5e-4, 4e-3), log=True)
     v = load_netlist_text(W.Y.dump_text(doc), "m.yaml").components["a.vol"].params["V"]
     assert v.free and v.log and v.bounds == pytest.approx((5e-4, 4e-3)) and v.value == pytest.approx(1e-3)
