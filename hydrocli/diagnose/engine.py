@@ -56,17 +56,26 @@ def _inputs_start(model, exps) -> dict:
 
 
 # -- step 1 -------------------------------------------------------------------------------
-def prepare(machine, train_paths, validate_paths, settings: Settings) -> Setup:
-    net0 = load_netlist(machine)
-    if not is_flat(net0):
-        # every candidate edits components of the main document; a template instance's or an
-        # included file's exist only after loading (knuckle-boom crane: KeyError 'inner.dcv')
-        net0 = load_doc(flat_doc(net0), net0.file)
-    net, sensors = with_pressure_sensors(net0)
+def diagnosed_machine(machine, with_nuisance: bool = True):
+    """(the machine the diagnosis works on, its pressure sensors, its nuisance parameters): the
+    file flattened when it has includes or template instances — every candidate edits
+    components of the main document, and a template instance's or an included file's exist
+    only after loading (knuckle-boom crane: KeyError 'inner.dcv') — with the measurement model
+    (:func:`.measurement.with_pressure_sensors`) and the valves' spool dynamics freed
+    (:mod:`.nuisance`)."""
+    net = load_netlist(machine)
+    if not is_flat(net):
+        net = load_doc(flat_doc(net), net.file)
+    net, sensors = with_pressure_sensors(net)
     found = []
-    if settings.nuisance:
+    if with_nuisance:
         free0 = {f"{c}.{p}" for c, d in net.components.items() for p, v in d.params.items() if v.free}
         net, found = nuisance.with_nuisance(net, free0)
+    return net, sensors, found
+
+
+def prepare(machine, train_paths, validate_paths, settings: Settings) -> Setup:
+    net, sensors, found = diagnosed_machine(machine, settings.nuisance)
     model = build_model(net)
     train = load_data(model, train_paths)
     validate = load_data(model, validate_paths)
