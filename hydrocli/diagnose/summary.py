@@ -2,12 +2,13 @@
 summary (which output, where, which regime, which effect, ESR before → after)."""
 from __future__ import annotations
 
+import math
 from pathlib import Path
-
 
 from ..fileio import json_text
 from ..netlist import yamldoc as Y
 from . import augment
+from .findings import Z_MIN
 
 
 def write_json(diag, path: Path) -> None:
@@ -68,11 +69,7 @@ def console_summary(diag) -> str:
         if "tau_s" in info:
             lines.append(f"Pressure sensor on '{info['sensed_node']}': lag {1e3 * info['tau_s']:.2f} ms "
                          "(measurement model, not counted as an effect).")
-    for n, info in d.get("nuisance_parameters", {}).items():
-        if info.get("at_bound") or abs(info["change_percent"]) > 10:
-            lines.append(f"Nuisance parameter {n}: {info['value']:.3g} against the file's {info['file_value']:.3g} "
-                         f"({info['change_percent']:+.0f} %" + (f", at its {info['at_bound']} bound" if info.get("at_bound")
-                                                              else "") + "): consider correcting the file.")
+    lines += nuisance_lines(d.get("nuisance_parameters", {}))
     if d["accepted"]:
         for a in d["accepted"]:
             if a.get("source") == "base_fit" and "validation_gain" not in a:     # stops needed to simulate at all
@@ -176,6 +173,25 @@ def console_summary(diag) -> str:
                      f"the noise band{tail}.")
     lines.append(f"Verdict: {d['verdict']} ({', '.join(d['effects'])}); {d['runtime_s']:.0f} s.")
     return "\n".join(lines)
+
+
+def nuisance_lines(params: dict) -> list[str]:
+    """The summary's advice on the nuisance parameters (:func:`.nuisance.report`) the base fit
+    moved more than 10 % or to a bound: correct the file where the move is determined
+    (``Z_MIN`` standard errors), say the data are silent where it is not (a valve the
+    recordings never command, a crane's idle jib, ended at a bound with no sensitivity)."""
+    lines = []
+    for n, info in params.items():
+        if not (info.get("at_bound") or abs(info["change_percent"]) > 10):
+            continue
+        se = info.get("stderr")
+        if se is None or not math.isfinite(se) or se <= 0 or abs(info["value"] - info["file_value"]) < Z_MIN * se:
+            lines.append(f"Nuisance parameter {n}: not determined by these data (keep the file's value).")
+        else:
+            bound = f", at its {info['at_bound']} bound" if info.get("at_bound") else ""
+            lines.append(f"Nuisance parameter {n}: {info['value']:.3g} against the file's {info['file_value']:.3g} "
+                         f"({info['change_percent']:+.0f} %{bound}): consider correcting the file.")
+    return lines
 
 
 def _short_horizon(a: dict) -> list[str]:

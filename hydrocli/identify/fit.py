@@ -37,6 +37,7 @@ GRADIENTS = ("auto", "sensitivities", "finite-differences")
 FTOL = 1e-6    # least-squares stops when a step lowers the cost by less than this fraction
 POLISH_RTOL = 0.01   # the polish's residuals at this fraction of the search's rtol
 POLISH_STEPS = 4     # Gauss–Newton steps of the polish at most (each kept only when it lowers the cost)
+UNDETERMINED = 1e-12  # a Jacobian column this small against the largest: no output is sensitive to the parameter
 
 
 @dataclass
@@ -385,8 +386,16 @@ def _uncertainty(residual_fn, z, fp: FreeParameters, ssr: float, m: int, interru
     d = fp.dp_dz(z)
     cov = cov_z * np.outer(d, d)
     se = np.sqrt(np.clip(np.diag(cov), 0, None))
+    # a parameter no output is sensitive to (its Jacobian column zero: a valve never commanded
+    # in the recording) has no information at all; the pseudo-inverse gives it variance 0, i.e.
+    # "known exactly". Its standard error is infinite.
+    cols = np.linalg.norm(J, axis=0)
+    dead = cols <= UNDETERMINED * max(float(cols.max(initial=0.0)), np.finfo(float).tiny)
+    se[dead] = np.inf
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov / np.outer(se, se)
+    corr[dead, :] = np.nan
+    corr[:, dead] = np.nan
     return se, corr
 
 
@@ -396,7 +405,10 @@ def fit_warnings(res: FitResult, fp: FreeParameters) -> list[str]:
     for n in at_bound:
         out.append(f"{n} ended at a bound: widen its bounds or check the model")
     for n, v, s in zip(res.names, res.estimates, res.stderr):
-        if n not in at_bound and np.isfinite(s) and v != 0 and s / abs(v) > 0.5:
+        if n not in at_bound and np.isposinf(s):
+            out.append(f"{n} is not determined by these data: no output is sensitive to it "
+                       "(fix it, or record an experiment that excites it)")
+        elif n not in at_bound and np.isfinite(s) and v != 0 and s / abs(v) > 0.5:
             out.append(f"{n} is poorly determined (standard error {100 * s / abs(v):.0f} % of its value)")
     k = len(res.names)
     for i in range(k):
