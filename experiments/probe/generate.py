@@ -46,32 +46,22 @@ def truth_doc(spec: Spec, effect: str, seed: int) -> tuple[dict, dict]:
     c = doc["components"]
     drawn = {}
     for name, v0 in spec.fixed.items():
-        comp, par = name.rsplit(".", 1)
         drawn[name] = float(v0 * fixed.uniform(0.85, 1.15))
-        _component(c, comp)[par] = drawn[name]
+        _set(c, name, drawn[name])
     k = float(size.uniform(0.7, 1.4))
     spec.cases[effect][1](c, k)
     return doc, {"magnitude_factor": k, "fixed_parameters": drawn}
 
 
-def _component(components: dict, name: str) -> dict:
-    """The mapping that holds ``name``'s parameters: its own, or (``inst.comp``) its template
-    instance's, where an override ``comp.param`` is written."""
-    if name in components:
-        return components[name]
-    inst, _, inner = name.partition(".")
-    return _Override(components[inst], inner)
-
-
-class _Override(dict):
-    """Writes ``inner.param: value`` into a template instance's mapping."""
-
-    def __init__(self, instance: dict, inner: str):
-        super().__init__()
-        self.instance, self.inner = instance, inner
-
-    def __setitem__(self, par, value):
-        self.instance[f"{self.inner}.{par}"] = value
+def _set(components: dict, name: str, value: float) -> None:
+    """Write parameter ``comp.param`` on its component, or (``inst.comp.param``) as the
+    override ``comp.param`` of its template instance."""
+    comp, par = name.rsplit(".", 1)
+    if comp in components:
+        components[comp][par] = value
+    else:
+        inst, _, inner = comp.partition(".")
+        components[inst][f"{inner}.{par}"] = value
 
 
 def _copy_includes(spec: Spec, folder: Path) -> None:
