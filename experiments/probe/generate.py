@@ -86,7 +86,10 @@ def _simulate(doc: dict, exp: dict, folder: Path, tag: str):
 
 
 def esr(y: np.ndarray, ref: np.ndarray) -> float:
-    """100·Σ(y − ref)² / Σ(y − ȳ)² (%), the family's effect ESR."""
+    """100·Σ(y − ref)² / Σ(y − ȳ)² (%): the effect's size, offsets included. NOT the family's
+    (``hydrocli.metrics.esr``, 100·var(y − ref)/var(y), seed 004 eq. 14), which ignores a
+    constant shift — most of what a leak does to a held pressure (SARCOS leaks: 1.2–1.8 % here,
+    0.05–0.07 % by the family's); docs/diagnose.md § Session 46 gives both."""
     return float(100.0 * np.sum((y - ref) ** 2) / np.sum((y - y.mean()) ** 2))
 
 
