@@ -7,7 +7,8 @@ headers), HDF5 or MATLAB ``.mat``; values converted to SI once, here.
 * MATLAB ``.mat`` (v5, ``scipy.io.loadmat``): every numeric vector (N×1 or 1×N) of the
   recording's length is a column; .mat files carry no units, so values are taken as written
   (give ``unit:``/``scale:`` in the experiment file).
-The time column is ``t`` or ``time`` unless named (first column for CSV).
+The time column is ``t`` or ``time`` unless named (for CSV, the first column when neither is
+present: a recording whose columns come in another order still reads its clock).
 """
 from __future__ import annotations
 
@@ -83,7 +84,7 @@ def read_csv(path: str | Path, time_column: str | None = None, check_columns: bo
         except Exception:
             raise DataError(Problem(f"column '{n}': unknown unit '{u}'", Location(str(path), 1, names.index(n) + 1),
                                     "use units such as s, bar, Pa, mm, m/s, %, N")) from None
-    tname = time_column or names[0]
+    tname = time_column or _conventional_time(names, ("t", "time", "Time")) or names[0]
     if tname not in names:
         raise DataError(Problem(f"time column '{tname}' not found (columns: {', '.join(names)})",
                                 Location(str(path), 1, 1)))
@@ -160,9 +161,14 @@ def read_mat(path: str | Path, time_column: str | None = None, check_columns: bo
     return _assemble(str(path), cols, {k: "1" for k in cols}, time_column, check_columns)
 
 
+def _conventional_time(names, candidates=("t", "time", "Time", "T")) -> str | None:
+    """The column a recording's clock conventionally has, if any."""
+    return next((n for n in candidates if n in names), None)
+
+
 def _assemble(file: str, cols: dict, units: dict, time_column: str | None, check_columns: bool) -> Recording:
     """Pick the time column, keep the columns of the recording's length."""
-    tname = time_column or next((n for n in ("t", "time", "Time", "T") if n in cols), None)
+    tname = time_column or _conventional_time(cols)
     if tname is None or tname not in cols:
         raise DataError(Problem(f"time column '{time_column or 't'}' not found (signals: {', '.join(cols) or 'none'})",
                                 Location(file), "name the time column with 'time:' in the experiment file"))

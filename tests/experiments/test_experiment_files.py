@@ -55,6 +55,17 @@ def test_csv_hdf5_and_mat_give_the_same_experiment(tmp_path, eha):
         _check(load_experiment(tmp_path / "e.yaml", model))
 
 
+def test_a_csv_whose_time_column_is_not_first_reads_its_clock_by_name(tmp_path):
+    """Columns in another order (time last): the column named t is the clock, and the first
+    column stays a signal with its unit converted."""
+    p = 50.0 + T
+    np.savetxt(tmp_path / "r.csv", np.column_stack([p, T * 1e3]), delimiter=",", comments="", header="P1[bar],t[ms]")
+    rec = recording_from_file(tmp_path / "r.csv")
+    assert np.allclose(rec.t, T) and np.allclose(rec.columns["P1"], 1e5 * p)
+    np.savetxt(tmp_path / "n.csv", np.column_stack([T, p]), delimiter=",", comments="", header="clock[s],P1[bar]")
+    assert np.allclose(recording_from_file(tmp_path / "n.csv").t, T)      # no t/time column: the first
+
+
 def test_hdf5_unit_attribute_converts_to_si(tmp_path):
     with h5py.File(tmp_path / "r.h5", "w") as h:
         h["t"] = T
