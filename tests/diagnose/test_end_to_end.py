@@ -97,6 +97,31 @@ def test_diagnose_names_coulomb_friction_and_improves_validation(case, in_proces
     assert (d / "report.pdf").read_bytes()[:4] == b"%PDF"
 
 
+def _as_another_lab_writes_it(src: Path, dst: Path) -> None:
+    """The same recording as another lab's logger writes it: other units (bar, mm, kN), the
+    columns in another order with the clock last, and no velocity channel."""
+    import pandas as pd
+    d = pd.read_csv(src)
+    pd.DataFrame({"x[mm]": d["x[m]"] * 1e3, "P2[bar]": d["P2[Pa]"] / 1e5, "Fext[kN]": d["Fext[N]"] / 1e3,
+                  "u[%]": d["u[%]"], "P1[bar]": d["P1[Pa]"] / 1e5, "Ps[bar]": d["Ps[Pa]"] / 1e5,
+                  "t[ms]": d["t[s]"] * 1e3}).to_csv(dst, index=False)
+
+
+def test_a_recording_in_other_units_and_order_without_velocity_still_names_it(case, in_process):
+    """Units are converted where the recording enters, the clock is found by name, and an output
+    the recording lacks is simply not compared: the same effect is named, at the same size."""
+    d, base = case
+    for part in ("train", "validate"):
+        _as_another_lab_writes_it(d / f"{part}.csv", d / f"{part}_lab.csv")
+    data = diagnose(base, [d / "train_lab.csv"], [d / "validate_lab.csv"], Settings(jobs=1, **SMALL)).data
+    assert "v" not in data["esr_validation_base"]
+    assert data["accepted"][0]["effect"] == "coulomb_friction"
+    kc = {p["name"]: p["value"] for p in data["accepted"][0]["parameters"]}
+    assert kc["friction.kc_p"] == pytest.approx(1500, rel=0.3)
+    before, after = data["accepted"][0]["esr_validation_before"], data["accepted"][0]["esr_validation_after"]
+    assert sum(after.values()) < 0.5 * sum(before.values())
+
+
 @pytest.mark.slow
 def test_a_dask_cluster_of_worker_processes_gives_the_same_diagnosis(case, in_process):
     """Candidate fits split per start (diagnose/candidate_fits.py) on a Dask scheduler with two
