@@ -341,7 +341,7 @@ def round_(su: Setup, stage: Stage, located: dict, st: Settings, pool=None,
     except SolverError as e:
         # the windows start on the model's own run along each recording; a model that leaves its
         # valid range there (a stroke overrun on the held-out record) gives them no start
-        why = f"not run: the model cannot simulate a recording ({e.problems[0].message if e.problems else e})"
+        why = f"not run: the model cannot simulate a recording ({e.problems[0].message})"
         log(progress, f"  short-horizon test {why}")
         return None, None, {"skipped": why}
     record = {"window_s": res["window_s"], "windows_validation": res["windows"], "alpha": res["alpha"],
