@@ -84,7 +84,7 @@ def read_csv(path: str | Path, time_column: str | None = None, check_columns: bo
         except Exception:
             raise DataError(Problem(f"column '{n}': unknown unit '{u}'", Location(str(path), 1, names.index(n) + 1),
                                     "use units such as s, bar, Pa, mm, m/s, %, N")) from None
-    tname = time_column or _conventional_time(names, ("t", "time", "Time")) or names[0]
+    tname = time_column or _conventional_time(names, CLOCK_NAMES) or names[0]
     if tname not in names:
         raise DataError(Problem(f"time column '{tname}' not found (columns: {', '.join(names)})",
                                 Location(str(path), 1, 1)))
@@ -161,14 +161,21 @@ def read_mat(path: str | Path, time_column: str | None = None, check_columns: bo
     return _assemble(str(path), cols, {k: "1" for k in cols}, time_column, check_columns)
 
 
-def _conventional_time(names, candidates=("t", "time", "Time", "T")) -> str | None:
-    """The column a recording's clock conventionally has, if any."""
+#: names a recording's clock conventionally has, in order of preference. A CSV falls back to
+#: its first column, so a bare ``T`` (a tank pressure, a temperature) is not guessed there;
+#: HDF5 and .mat recordings, with no column order to fall back on, also take ``T``
+CLOCK_NAMES = ("t", "time", "Time")
+CLOCK_NAMES_UNORDERED = CLOCK_NAMES + ("T",)
+
+
+def _conventional_time(names, candidates: tuple[str, ...]) -> str | None:
+    """The first of ``candidates`` among the recording's column names, if any."""
     return next((n for n in candidates if n in names), None)
 
 
 def _assemble(file: str, cols: dict, units: dict, time_column: str | None, check_columns: bool) -> Recording:
     """Pick the time column, keep the columns of the recording's length."""
-    tname = time_column or _conventional_time(cols)
+    tname = time_column or _conventional_time(cols, CLOCK_NAMES_UNORDERED)
     if tname is None or tname not in cols:
         raise DataError(Problem(f"time column '{time_column or 't'}' not found (signals: {', '.join(cols) or 'none'})",
                                 Location(file), "name the time column with 'time:' in the experiment file"))
