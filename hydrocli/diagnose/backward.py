@@ -1,6 +1,7 @@
 """Backward elimination: an earlier effect a later one makes unnecessary is withdrawn."""
 from __future__ import annotations
 
+from ..errors import HydroError
 from ..model.builder import build_model
 from ..netlist.model import Netlist
 from . import accept, augment, baseline, residuals, workers
@@ -58,7 +59,7 @@ def without(su: Setup, base_net: Netlist, stage: Stage, keep: list[Candidate], s
             what: str) -> Stage | None:
     """The base machine with the candidates ``keep`` only, re-identified with every parameter
     free from ``stage``'s values; None when they cannot be built without the one left out (a
-    later effect built on its components)."""
+    later effect built on its components) or cannot be simulated without it."""
     try:
         net = base_net
         for c in keep:
@@ -67,10 +68,16 @@ def without(su: Setup, base_net: Netlist, stage: Stage, keep: list[Candidate], s
     except Exception:
         return None
     log(progress, f"  is {what} still needed? re-identifying without it…")
-    fit = baseline.identify(model, su.train, p_start=workers.warm_vector(model, stage.model.param_names, stage.p),
-                            iterations=st.base_evals, threads=st.jobs, progress=fit_status(progress, "backward step"))
-    net = augment.set_values(net, {n: fit.p[model.param_index(n)] for n in model.free_params})
-    out = make_stage(net, model, fit.p, fit.cost, list(model.free_params), su.train, su.validate, su.outputs)
+    try:
+        fit = baseline.identify(model, su.train, p_start=workers.warm_vector(model, stage.model.param_names, stage.p),
+                                iterations=st.base_evals, threads=st.jobs, progress=fit_status(progress, "backward step"))
+        net = augment.set_values(net, {n: fit.p[model.param_index(n)] for n in model.free_params})
+        out = make_stage(net, model, fit.p, fit.cost, list(model.free_params), su.train, su.validate, su.outputs)
+    except HydroError as exc:
+        # without it the machine leaves its valid range on these records (a stroke overrun):
+        # it is kept, as an effect the others cannot stand in for
+        log(progress, f"  without it the model cannot simulate ({exc.problems[0].message}): kept")
+        return None
     out.stderr = dict(zip(fit.names, baseline.inflated_stderr(
         fit, residuals.effective_n(model, su.train, out.Y_train, su.outputs))))
     return out

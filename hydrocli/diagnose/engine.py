@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import DataError, Problem
+from ..errors import DataError, HydroError, Problem
 from ..experiments.experiment_file import load_all
 from ..executor import executor
 from ..identify.fit import sensitivities_available
@@ -486,14 +486,20 @@ def _polish(su: Setup, stage: Stage, c: Candidate, text: str, f: dict, n_eff: fl
     p_c = workers.warm_vector(model_c, f["param_names"], f["p"])
     free_c = list(model_c.free_params)
     log(progress, f"  polishing the model with {c.effect} (all {len(free_c)} free parameters)…")
-    pol = baseline.identify(model_c, su.train, p_start=p_c, iterations=st.base_evals, threads=st.jobs,
-                            progress=fit_status(progress, f"polishing {c.effect}"))
-    if pol.cost < f["cost"]:
-        Yva = residuals.simulate_outputs(model_c, su.validate, pol.p)
-        val = residuals.total(residuals.esr_table(model_c, su.validate, Yva, su.outputs))
-        if val <= residuals.total(f["esr_validation"]):
-            p_c, f = pol.p, dict(f, cost=pol.cost, names=pol.names, estimates=pol.estimates.tolist(),
-                                 stderr=baseline.inflated_stderr(pol, n_eff).tolist())
+    try:
+        pol = baseline.identify(model_c, su.train, p_start=p_c, iterations=st.base_evals, threads=st.jobs,
+                                progress=fit_status(progress, f"polishing {c.effect}"))
+        if pol.cost < f["cost"]:
+            Yva = residuals.simulate_outputs(model_c, su.validate, pol.p)
+            val = residuals.total(residuals.esr_table(model_c, su.validate, Yva, su.outputs))
+            if val <= residuals.total(f["esr_validation"]):
+                p_c, f = pol.p, dict(f, cost=pol.cost, names=pol.names, estimates=pol.estimates.tolist(),
+                                     stderr=baseline.inflated_stderr(pol, n_eff).tolist())
+    except HydroError as exc:
+        # the polish is a refinement: when its simulations leave the model's valid range (dev
+        # lift_cbv sharp overlap, seed 47: the piston overran the stroke near the training
+        # record's end with every parameter free) the candidate's own fit stands
+        log(progress, f"  the polish cannot simulate ({exc.problems[0].message}): keeping {c.effect}'s own fit")
     aug = augment.set_values(aug, {n: p_c[model_c.param_index(n)] for n in free_c})
     return make_stage(aug, model_c, p_c, f["cost"], free_c, su.train, su.validate, su.outputs,
                       dict(zip(f["names"], f["stderr"]))), f

@@ -90,3 +90,24 @@ def test_the_presence_test_is_the_one_a_candidate_passes():
     assert gain == pytest.approx(1.0) and band == pytest.approx(accept.need(2.0, 0.2)) and reasons == []
     assert accept.presence(1.0, 0.9999, 1, N_EFF, 2.0, 1.0, 0.2)[3]          # BIC does not improve
     assert accept.presence(1.0, 0.9, 1, N_EFF, 2.0, 1.99, 0.2)[3]            # no held-out gain
+
+
+def test_an_effect_without_which_the_model_cannot_simulate_is_kept(monkeypatch):
+    """The fit without the earlier effect leaves the model's valid range (a stroke overrun):
+    ``without`` answers None (kept) instead of letting the error end the diagnosis."""
+    from hydrocli.errors import IdentifyError, Problem
+
+    def overrun(*a, **k):
+        raise IdentifyError(Problem("every trial simulation failed (3)"))
+
+    monkeypatch.setattr(backward, "build_model", lambda net: SimpleNamespace(param_names=[], free_params=[]))
+    monkeypatch.setattr(backward.augment, "reload", lambda net, text: net)
+    monkeypatch.setattr(backward.augment, "text_of", lambda net: "")
+    monkeypatch.setattr(backward.workers, "warm_vector", lambda *a: np.zeros(0))
+    monkeypatch.setattr(backward.baseline, "identify", overrun)
+    said = []
+    keep = [SimpleNamespace(build=lambda net: net)]
+    stage = SimpleNamespace(model=SimpleNamespace(param_names=[]), p=np.zeros(0))
+    assert backward.without(SimpleNamespace(train=[]), "net", stage, keep, engine.Settings(), said.append,
+                            "a mount beside a delay") is None
+    assert any("cannot simulate" in s for s in said)

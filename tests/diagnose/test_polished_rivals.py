@@ -82,3 +82,31 @@ def test_still_alike_after_polishing_the_special_case_is_named(monkeypatch):
     first, second, _ = engine._decide_polished(None, None, win, rival, {seal.key: "", coulomb.key: ""}, N_EFF,
                                                {seal.key: SSR0, coulomb.key: SSR0}, 0.2, engine.Settings(), None)
     assert first[1].effect == "coulomb_friction" and second[1].effect == "pressure_dependent_friction"
+
+
+def test_a_polish_that_cannot_simulate_keeps_the_candidates_own_fit(monkeypatch):
+    """Dev lift_cbv sharp overlap (seed 47): with all 25 parameters free the polish's first
+    simulations overran the stroke and its IdentifyError ended the diagnosis after the overlap
+    had been fitted. The polish is a refinement: the candidate's own fit now stands."""
+    from hydrocli.errors import IdentifyError, Problem
+
+    def overrun(*a, **k):
+        raise IdentifyError(Problem("every trial simulation failed (2)"))
+
+    made = {}
+    monkeypatch.setattr(engine.augment, "reload", lambda net, text: "aug")
+    monkeypatch.setattr(engine.augment, "set_values", lambda net, values: (net, values))
+    model = SimpleNamespace(free_params=["a", "b"], param_index=["a", "b"].index)
+    monkeypatch.setattr(engine, "build_model", lambda net: model)
+    monkeypatch.setattr(engine.workers, "warm_vector", lambda model, names, p: np.asarray(p, float))
+    monkeypatch.setattr(engine.baseline, "identify", overrun)
+    monkeypatch.setattr(engine, "make_stage", lambda net, model, p, cost, *a: made.update(p=p, cost=cost, net=net))
+    said = []
+    f = {"p": [1.0, 2.0], "param_names": ["a", "b"], "cost": 0.3, "names": ["a"], "stderr": [0.1],
+         "esr_validation": {"P1": 0.5}}
+    su = SimpleNamespace(train=[], validate=[], outputs=["P1"])
+    _, f_out = engine._polish(su, SimpleNamespace(net=None), _cand("valve_overlap", 4), "", f, N_EFF,
+                              engine.Settings(), said.append)
+    assert f_out is f and made["cost"] == 0.3 and list(made["p"]) == [1.0, 2.0]
+    assert made["net"][1] == {"a": 1.0, "b": 2.0}
+    assert any("cannot simulate" in s and "every trial simulation failed" in s for s in said)
