@@ -32,7 +32,7 @@ from ..netlist.loader import load_doc, load_netlist
 from . import (accept, augment, backward, base_findings, baseline, candidate_fits, design, findings, locate, nuisance,
                ranking, residuals, restrain, restrained, runaway, short_horizon, stats, travel, workers)
 from .candidates import COMPLIANCES, SWITCHING, Candidate, catalogue
-from .equations import equation_errors
+from .equations import located_equations
 from .measurement import with_pressure_sensors
 from .ranking import ALTERNATIVE
 from .shortlist import shortlist
@@ -121,8 +121,9 @@ def baseline_step(su: Setup, st: Settings, progress=None, run: runaway.Runaway |
     log(progress, f"base model: train ESR {fmt_esr(base.esr_train)}; validation ESR {fmt_esr(base.esr_validation)}")
     where = locate.locate(model, train, base.Y_train, outputs, st.window_s)
     white = locate.whiteness(model, train, base.Y_train, outputs)
-    eq = {s: {k: v for k, v in d.items() if k != "error"} for s, d in equation_errors(model, train[0], base.p).items()}
-    where["equations"] = eq
+    where["equations"], why = located_equations(model, train[0], base.p)
+    if why:
+        log(progress, f"  the equation errors are not computed ({why})")
     found = base_findings.base_fit_findings(su, base, judged)
     if run is not None:
         found.insert(0, runaway.finding(run, dict(zip(res0.names, res0.estimates)),

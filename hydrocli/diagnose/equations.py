@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
+from ..errors import HydroError
 from ..model.model import Model
 from ..experiments.initial import direct_state, initial_state, sensed_state
 from ..solve.simulate import simulate
@@ -103,3 +104,15 @@ def equation_errors(model: Model, exp, p: np.ndarray) -> dict[str, dict]:
         out[s] = {"output": o, "balance": balance, "relative_rms": float(np.sqrt(np.mean(e ** 2))) / scale,
                   "error": e}
     return out
+
+
+def located_equations(model: Model, exp, p: np.ndarray) -> tuple[dict[str, dict], str | None]:
+    """(:func:`equation_errors` without the error series — what the diagnosis reports under
+    ``located.equations`` — and None), or ({}, why) when the model cannot follow the record
+    (a stroke overrun): the equations only say where the error lands, they are not needed
+    for a verdict."""
+    try:
+        errors = equation_errors(model, exp, p)
+    except HydroError as exc:
+        return {}, exc.problems[0].message
+    return {s: {k: v for k, v in d.items() if k != "error"} for s, d in errors.items()}, None
