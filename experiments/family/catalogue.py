@@ -5,13 +5,16 @@ how it follows the size factor s chosen by the generator's calibration: an expon
 (value * s**e; e = -1 for a stiffness: softer is a larger effect) or ``"d"`` for a gain
 ratio (1 + (value - 1) s). An empty ``scale`` means the size is not calibrated (end stops:
 the size is set by how often the setpoints reach the stop). ``LIMITS`` clips parameters that
-have a physical ceiling. Machines without an entry for a form do not carry it.
+have a physical ceiling. Machines without an entry for a form do not carry it. The third forms
+(truth/third_forms.py, ``THIRD_FORMS``: form -> effect) follow each effect's first two and are
+generated only when named (``--forms``).
 """
 from __future__ import annotations
 
 from experiments.concealed.truth import effects as C
 
 from .truth import forms as F
+from .truth import third_forms as TF
 from .truth import winch as WN
 
 _ALL = ("lift", "lift_cbv", "rotary", "eha")
@@ -197,7 +200,15 @@ FORMS = {
     },
 }
 
-LIMITS = {"alpha0": (0.0, 0.9), "frac_p": (0.05, 0.9), "m_frac": (0.002, 0.85)}
+# third forms (session 48, truth/third_forms.py): appended after each effect's two forms; the
+# generator writes them only when --forms names them (generate.all_cases)
+for _e, _forms in TF.THIRD.items():
+    FORMS[_e].update(_forms)
+THIRD_FORMS = {f: e for e, fs in TF.THIRD.items() for f in fs}
+
+LIMITS = {"alpha0": (0.0, 0.9), "frac_p": (0.05, 0.9), "m_frac": (0.002, 0.85),
+          # a sampled controller no slower than 20 Hz (at 8 Hz the lift_cbv loop limit-cycles)
+          "T_s": (1e-3, 0.05)}
 
 # truth parameters the effect needs ZEROED in the truth base, and the machine-file edits that
 # remove the same term from the case's base.yaml: machine -> effect -> [(truth key, yaml key,

@@ -41,6 +41,8 @@ def test_form_changes_the_recording(machine, effect, form):
     x0, bias = mt.bench["x_home"], 0.0
     if effect == "end_stop":                         # start just below the stop, pushing up
         x0, bias = params["x_stop"] - 2e-4, 15.0
+    if form == "scored_bore":                        # start on the scored band of the barrel
+        x0 = 0.5 * (params["x1"] + params["x2"])
     off_p = dict(p)
     on_p = dict(p)
     on_p.update(getattr(cat.FORMS[effect][form][0], "base_overrides", {}))

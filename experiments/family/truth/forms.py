@@ -354,11 +354,15 @@ class CompliantMount(Effect):
         # the arm's gravity with the housing
         if hasattr(model, "load_force"):     # the EHA's load is an external force input
             F = F - model.load_force(y[5]) + model.load_force(y[5] + xb)
-        Fm = p["k_b"] * xb + p.get("k3", 0.0) * xb ** 3 + p["c_b"] * vb
+        Fm = self.mount_force(xb, vb)
         ab = (-Fp + Ff - Fm) / p["m_b"]
         dy[i] = vb
         dy[i + 1] = ab
         return (Fp + F - Ff) / m - ab      # stroke acceleration = load - body
+
+    def mount_force(self, xb, vb):
+        p = self.params
+        return p["k_b"] * xb + p.get("k3", 0.0) * xb ** 3 + p["c_b"] * vb
 
     def atol(self, name):
         return 1e-9
