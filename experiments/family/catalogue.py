@@ -6,8 +6,8 @@ how it follows the size factor s chosen by the generator's calibration: an expon
 ratio (1 + (value - 1) s). An empty ``scale`` means the size is not calibrated (end stops:
 the size is set by how often the setpoints reach the stop). ``LIMITS`` clips parameters that
 have a physical ceiling. Machines without an entry for a form do not carry it. The third forms
-(truth/third_forms.py, ``THIRD_FORMS``: form -> effect) follow each effect's first two and are
-generated only when named (``--forms``).
+(``THIRD``, classes in truth/third_forms.py; ``THIRD_FORMS``: form -> effect) follow each
+effect's first two and are generated only when named (``--forms``).
 """
 from __future__ import annotations
 
@@ -200,11 +200,66 @@ FORMS = {
     },
 }
 
+# the scored band: the middle third of each machine's setpoint range (lift [0.08, 0.42] m,
+# vane [-0.8, 0.8] rad, EHA [0.045, 0.195] m), logistic edges d ~ 1 % of the stroke
 # third forms (session 48, truth/third_forms.py): appended after each effect's two forms; the
-# generator writes them only when --forms names them (generate.all_cases)
-for _e, _forms in TF.THIRD.items():
+# generator writes them only when --forms names them (generate.all_cases).
+THIRD = {
+    "entrained_air": {
+        "pocket_chamber_A": (TF.AirPocketChamberA, _per({"V_g0": 2.0e-4}, {"V_g0": 2.0e-5}, {"V_g0": 1.5e-4}),
+                             {"V_g0": 1}),
+    },
+    "internal_leakage": {
+        "scored_bore": (TF.ScoredBoreLeakage, _per({"c": 9e-12, "x1": 0.193, "x2": 0.307, "d": 0.005},
+                                                   {"c": 1.5e-12, "x1": -0.267, "x2": 0.267, "d": 0.03},
+                                                   {"c": 6e-11, "x1": 0.095, "x2": 0.145, "d": 0.003}),
+                        {"c": 1}),
+    },
+    "pressure_dependent_friction": {
+        "both_seals_gauge": (TF.BothSealsGaugeFriction, _per({"mu": 0.02, "eps2": 0.002}, {"mu": 0.01, "eps2": 0.02},
+                                                             {"mu": 0.015, "eps2": 0.001}), {"mu": 1}),
+    },
+    "stribeck_friction": {
+        "exponential": (TF.ExponentialStribeck, _per({"Fs": 800.0, "vs": 0.005, "v_eps": 5e-4},
+                                                     {"Fs": 3.0, "vs": 0.05, "v_eps": 5e-3},
+                                                     {"Fs": 600.0, "vs": 0.005, "v_eps": 5e-4}), {"Fs": 1}),
+    },
+    "input_delay": {
+        "sampled_controller": (TF.SampledController, _per({"T_s": 0.01}, {"T_s": 0.01}, {"T_s": 0.01}),
+                               {"T_s": 1}),
+    },
+    "sensor_lag": {
+        # not on the vane: its rate is a tachometer's, and a lagged angle alone leaves the
+        # signals the size is measured on (P1, P2, v) unchanged
+        "position_1st_order": (TF.PositionSensorLag, _per({"tau_x": 0.015}, None, {"tau_x": 0.015}, ("lift", "lift_cbv", "eha")),
+                               {"tau_x": 1}),
+    },
+    "line_dynamics": {
+        "hose_A_only": (TF.HoseALine, _per({"V_h": 4.5e-4, "beta_h": 6e8, "I": 3.1e7, "R_l": 3.1e8},
+                                           {"V_h": 8.5e-5, "beta_h": 6e8, "I": 9.2e7, "R_l": 3.8e9},
+                                           {"V_h": 1.7e-4, "beta_h": 6e8, "I": 1.85e8, "R_l": 7.6e9}, _NO_CBV),
+                        {"V_h": 1, "I": 1, "R_l": 1}),
+    },
+    "structural_flexibility": {
+        # the dry damper's slip force is a fraction of the force swings the mount carries (a
+        # larger one locks the bushing: no deflection whatever its stiffness), its slope F_d/v_d
+        # about half the critical damping 2 sqrt(k_b m_b)
+        "mount_dry_damped": (TF.DryDampedMount, _per({"m_b": 300.0, "k_b": 1e7, "c_b": 3000.0, "F_d": 100.0, "v_d": 2e-3},
+                                                     {"m_b": 0.2, "k_b": 3e3, "c_b": 0.5, "F_d": 0.5, "v_d": 0.02},
+                                                     {"m_b": 30.0, "k_b": 5e6, "c_b": 1000.0, "F_d": 100.0,
+                                                      "v_d": 5e-3}), {"k_b": -1}),
+    },
+    "end_stop": {
+        "hydraulic_cushion": (TF.HydraulicCushion, _per({"x_stop": 0.34, "L_c": 0.008, "K_end": 5e-9, "k": 1e11, "lam": 15.0},
+                                                        {"x_stop": 0.50, "L_c": 0.05, "K_end": 4.5e-10, "k": 1e7,
+                                                         "lam": 15.0},
+                                                        {"x_stop": 0.128, "L_c": 0.005, "K_end": 3.3e-9, "k": 6e10,
+                                                         "lam": 15.0}), {}),
+    },
+}
+for _e, _forms in THIRD.items():
     FORMS[_e].update(_forms)
-THIRD_FORMS = {f: e for e, fs in TF.THIRD.items() for f in fs}
+THIRD_FORMS = {f: e for e, fs in THIRD.items() for f in fs}
 
 LIMITS = {"alpha0": (0.0, 0.9), "frac_p": (0.05, 0.9), "m_frac": (0.002, 0.85),
           # a sampled controller no slower than 20 Hz (at 8 Hz the lift_cbv loop limit-cycles)

@@ -4,8 +4,8 @@ forms the diagnosis was developed on, to test it on forms nobody tuned it on.
 Each class is an ``experiments.concealed.truth.effects.Effect`` (same hooks as forms.py), so it
 runs on the EHA truth (FamilyEHATruth) and the lift / rotary truth (ActuatorTruth). Forms whose
 hooks carry no state read the state the truth stored for this right-hand-side call
-(``model._y``, set by ActuatorTruth.rhs and FamilyEHATruth.rhs). ``THIRD`` maps
-effect -> form -> (class, {machine: params}, scale) and is merged into catalogue.FORMS.
+(``model._y``, set by ActuatorTruth.rhs and FamilyEHATruth.rhs). Their nominal parameters
+and machines are in catalogue.THIRD, beside the first two forms'.
 """
 from __future__ import annotations
 
@@ -244,8 +244,9 @@ class DryDampedMount(CompliantMount):
 
 
 # ---- 9. end_stop: a hydraulic end-of-stroke cushion -----------------------------------------
-class HydraulicCushion(Effect):
-    name = "end_stop"
+class HydraulicCushion(C.EndStop):
+    """The cushion's throttling on the valve's B edge; the metal contact at x_stop is the
+    Hunt–Crossley stop's (``piston_accel`` inherited from ``EndStop``)."""
     form = ("HYDRAULIC CUSHION at the end of stroke: over the last L_c before x_stop a cushion "
             "spear throttles chamber B's OUTFLOW in series with the valve edge, orifice "
             "K_c(x) = K_end / sigma(x), sigma = smoothstep((x - x_stop + L_c)/L_c), so the "
@@ -275,74 +276,3 @@ class HydraulicCushion(Effect):
             if xv < 0.0:
                 qs += (f - 1.0) * q_edge
         return qa, qb, qs
-
-    def piston_accel(self, model, y, Fp, F, Ff, dy):
-        d = y[5] - self.params["x_stop"]
-        Fc = 0.0
-        if d > 0.0:
-            Fc = max(self.params["k"] * d ** 1.5 * (1.0 + self.params["lam"] * y[6]), 0.0)
-        return (Fp + F - Ff - Fc) / model.p["m"]
-
-
-def _per(lift, rotary, eha, machines=("lift", "lift_cbv", "rotary", "eha")):
-    table = {"lift": lift, "lift_cbv": lift, "rotary": rotary, "eha": eha}
-    return {m: table[m] for m in machines}
-
-
-_LIN = ("lift", "lift_cbv", "eha")
-_NO_CBV = ("lift", "rotary", "eha")
-# the scored band: the middle third of each machine's setpoint range (lift [0.08, 0.42] m,
-# vane [-0.8, 0.8] rad, EHA [0.045, 0.195] m), logistic edges d ~ 1 % of the stroke
-THIRD = {
-    "entrained_air": {
-        "pocket_chamber_A": (AirPocketChamberA, _per({"V_g0": 2.0e-4}, {"V_g0": 2.0e-5}, {"V_g0": 1.5e-4}),
-                             {"V_g0": 1}),
-    },
-    "internal_leakage": {
-        "scored_bore": (ScoredBoreLeakage, _per({"c": 9e-12, "x1": 0.193, "x2": 0.307, "d": 0.005},
-                                                {"c": 1.5e-12, "x1": -0.267, "x2": 0.267, "d": 0.03},
-                                                {"c": 6e-11, "x1": 0.095, "x2": 0.145, "d": 0.003}),
-                        {"c": 1}),
-    },
-    "pressure_dependent_friction": {
-        "both_seals_gauge": (BothSealsGaugeFriction, _per({"mu": 0.02, "eps2": 0.002}, {"mu": 0.01, "eps2": 0.02},
-                                                          {"mu": 0.015, "eps2": 0.001}), {"mu": 1}),
-    },
-    "stribeck_friction": {
-        "exponential": (ExponentialStribeck, _per({"Fs": 800.0, "vs": 0.005, "v_eps": 5e-4},
-                                                  {"Fs": 3.0, "vs": 0.05, "v_eps": 5e-3},
-                                                  {"Fs": 600.0, "vs": 0.005, "v_eps": 5e-4}), {"Fs": 1}),
-    },
-    "input_delay": {
-        "sampled_controller": (SampledController, _per({"T_s": 0.01}, {"T_s": 0.01}, {"T_s": 0.01}),
-                               {"T_s": 1}),
-    },
-    "sensor_lag": {
-        # not on the vane: its rate is a tachometer's, and a lagged angle alone leaves the
-        # signals the size is measured on (P1, P2, v) unchanged
-        "position_1st_order": (PositionSensorLag, _per({"tau_x": 0.015}, None, {"tau_x": 0.015}, _LIN),
-                               {"tau_x": 1}),
-    },
-    "line_dynamics": {
-        "hose_A_only": (HoseALine, _per({"V_h": 4.5e-4, "beta_h": 6e8, "I": 3.1e7, "R_l": 3.1e8},
-                                        {"V_h": 8.5e-5, "beta_h": 6e8, "I": 9.2e7, "R_l": 3.8e9},
-                                        {"V_h": 1.7e-4, "beta_h": 6e8, "I": 1.85e8, "R_l": 7.6e9}, _NO_CBV),
-                        {"V_h": 1, "I": 1, "R_l": 1}),
-    },
-    "structural_flexibility": {
-        # the dry damper's slip force is a fraction of the force swings the mount carries (a
-        # larger one locks the bushing: no deflection whatever its stiffness), its slope F_d/v_d
-        # about half the critical damping 2 sqrt(k_b m_b)
-        "mount_dry_damped": (DryDampedMount, _per({"m_b": 300.0, "k_b": 1e7, "c_b": 3000.0, "F_d": 100.0, "v_d": 2e-3},
-                                                  {"m_b": 0.2, "k_b": 3e3, "c_b": 0.5, "F_d": 0.5, "v_d": 0.02},
-                                                  {"m_b": 30.0, "k_b": 5e6, "c_b": 1000.0, "F_d": 100.0,
-                                                   "v_d": 5e-3}), {"k_b": -1}),
-    },
-    "end_stop": {
-        "hydraulic_cushion": (HydraulicCushion, _per({"x_stop": 0.34, "L_c": 0.008, "K_end": 5e-9, "k": 1e11, "lam": 15.0},
-                                                     {"x_stop": 0.50, "L_c": 0.05, "K_end": 4.5e-10, "k": 1e7,
-                                                      "lam": 15.0},
-                                                     {"x_stop": 0.128, "L_c": 0.005, "K_end": 3.3e-9, "k": 6e10,
-                                                      "lam": 15.0}), {}),
-    },
-}
