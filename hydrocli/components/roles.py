@@ -34,8 +34,12 @@ friction           ports a, b, pressure_a, pressure_b; params viscous, coulomb, 
 pressure_source    ports out, reference; params pressure
 tank               ports node
 volume             ports node; params volume, air, bulk_modulus
+gas_volume         ports node; params gas_volume (at the precharge), precharge (absolute), exponent
+                   (polytropic), oil_volume (of its port): a gas spring on a node
 restriction        ports a, b; params conductance (turbulent: q = K·√Δp)
 laminar_restriction ports a, b; params resistance (Δp = R·q)
+band_restriction   ports a, b, motion, reference; params conductance (laminar, inside the band),
+                   band_start, band_end (positions), edge (width of the band's edges)
 weight             ports node; params weight (a gravity load's force or moment), hanging (a
                    pendulum load's angle from hanging straight down at θ = 0)
 pendulum           ports node; params inertia (m_p·r²), length (the rope's), radius (the arm's
@@ -55,8 +59,10 @@ FRICTION = "friction"
 PRESSURE_SOURCE = "pressure_source"
 TANK = "tank"
 VOLUME = "volume"
+GAS_VOLUME = "gas_volume"
 RESTRICTION = "restriction"
 LAMINAR_RESTRICTION = "laminar_restriction"
+BAND_RESTRICTION = "band_restriction"
 WEIGHT = "weight"
 PENDULUM = "pendulum"
 

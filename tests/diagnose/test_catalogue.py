@@ -93,12 +93,13 @@ def test_supply_restriction_may_be_a_laminar_line(eha):
 def test_only_companions_bounded_by_limiting_laws_may_end_on_a_bound(eha):
     """``limits`` (a fit ending on the bound has found a law, accept.judge) is carried by the
     supply restriction's Δp_lam (sharp orifice … laminar line) and air's polytropic exponent
-    (isothermal 1 … adiabatic 1.4), by no primary and by no other companion of the catalogue."""
+    (isothermal 1 … adiabatic 1.4; shared, or a chamber's pocket), by no primary and by no other companion of the catalogue."""
     net, ctx = eha
     limited = {(c.effect, p.name.split(".")[-1]): p for c in catalogue(ctx)[0] for p in c.params if p.limits}
-    assert set(limited) == {("supply_pressure_drop", "dp_lam"), ("entrained_air", "air_n")}
+    assert set(limited) == {("supply_pressure_drop", "dp_lam"), ("entrained_air", "air_n"), ("entrained_air", "n")}
     assert not any(p.primary for p in limited.values())
     assert limited[("entrained_air", "air_n")].bounds == (1.0, 1.4)
+    assert limited[("entrained_air", "n")].bounds == (1.0, 1.4)        # a chamber's air pocket (gas law)
 
 
 def test_line_candidate_is_a_hose_whose_volume_grows_with_its_length(eha):
@@ -361,12 +362,12 @@ def test_a_motors_air_is_one_fraction_in_its_chambers_or_volumes_where_it_has_no
         "components:\n", "components:\n  hose_a: {type: volume, ports: {P: chamber_1}, V: 6.0e-4}\n"
                          "  hose_b: {type: volume, ports: {P: chamber_2}, V: 6.0e-4}\n", 1)
     assert drawn.count("V: 6.0e-4") == 2
-    for net, variant, names in ((base, "", ["motor.air", "motor.air_n", "motor.p_dissolve"]),
-                                (load_netlist_text(drawn, "winch_lines.yaml"), "volume", None)):
+    for net, variants, names in ((base, ["", "pocket"], ["motor.air", "motor.air_n", "motor.p_dissolve"]),
+                                 (load_netlist_text(drawn, "winch_lines.yaml"), ["volume"], None)):
         model = build_model(net)
         ctx = Context(net, set(model.free_params), {"drum_node": (0.0, 8.0)}, {})
         air = [c for c in catalogue(ctx)[0] if c.effect == "entrained_air"]
-        assert [c.variant for c in air] == [variant]
+        assert [c.variant for c in air] == variants
         assert names is None or [p.name for p in air[0].params] == names
         aug = build_model(air[0].build(net))
         assert {p.name for p in air[0].params} <= set(aug.free_params)

@@ -4,6 +4,8 @@ from __future__ import annotations
 from ...model import expr as E
 from ..base import Component, H, Param, Port, VariableSpec
 from ..registry import register
+from .. import roles as RL
+from ..roles import role
 
 
 @register
@@ -28,6 +30,7 @@ class GasAccumulator(Component):
     only the oil dead volume V_oil is compliant. The switch is smoothed over eps_p."""
 
     type = "gas_accumulator"
+    roles = (role(RL.GAS_VOLUME, {"node": "P"}, gas_volume="V0", precharge="p0", exponent="n", oil_volume="V_oil"),)
     family = "hydraulic"
     description = "Gas-charged accumulator (polytropic gas spring over a precharge pressure)"
     source = "polytropic gas law p·V^n = p0·V0^n (Merritt §3); seed 001 eq. 8 (C_A)"

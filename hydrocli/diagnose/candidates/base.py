@@ -148,12 +148,13 @@ class Context:
         return None
 
     @staticmethod
-    def element(role: str, domain: Domain) -> tuple[str, Role]:
+    def element(role: str, domain: Domain, slot: str | None = None) -> tuple[str, Role]:
         """The library type offering ``role`` on ``domain`` (a spring for a translational
-        node, a shaft for a rotational one): (type name, its role)."""
+        node, a shaft for a rotational one) at its ``a`` or ``node`` slot, or at ``slot`` when
+        given (a band leak whose ``motion`` reads a rod or a shaft): (type name, its role)."""
         for t, cls in registry.offering(role).items():
             r = cls.role(role)
-            slot_port = r.port("a") or r.port("node")
+            slot_port = r.port(slot) if slot else (r.port("a") or r.port("node"))
             ps = cls.port(slot_port) if slot_port else None
             if ps is not None and ps.domain == domain:
                 return t, r

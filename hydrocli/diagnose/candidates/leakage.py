@@ -54,9 +54,15 @@ class CylinderFamily(Family):
             a, b = act.node("chamber_a"), act.node("chamber_b")
             k = ctx.size(act) / REF_SIZE
             out.extend(self._internal(ctx, act, a, b, k))
+            band = _band_leak(ctx, act, a, b, k)
+            if band is not None:
+                out.append(band)
             out.extend(self._external(ctx, act, a, b, k))
             out.extend(self._seals(ctx, act, a, b, k))
             out.append(self._air(ctx, act, a, b))
+            pockets = _air_pockets(ctx, act, [a, b])
+            if pockets is not None:
+                out.append(pockets)
             out.append(self._end_stop(ctx, act))
         return out
 
@@ -239,6 +245,100 @@ def _holds_oil(ctx: Context, act: Part) -> bool:
         return not volumes or any(ctx.value(n) > 0 for n in volumes)
     except (KeyError, TypeError, ValueError):
         return True
+
+
+P_FREE = 1e5           # Pa: free air is measured at 1 bar (absolute)
+
+
+def _air_pockets(ctx: Context, act: Part, nodes: list[str]) -> Candidate | None:
+    """Free air trapped in ONE chamber more than the other (a poorly bled cylinder: the pocket
+    collects at the high port), beside :meth:`CylinderFamily._air`'s air shared by both chambers.
+
+    A gas spring on each chamber node (the library's role ``gas_volume``: a gas accumulator
+    precharged at 1 bar, so its gas is free air), its own volume V_g0 at 1 bar per chamber:
+    V_g = V_g0·(p₀/p)^(1/n), C = V_g/(n·p) (polytropic gas law; Merritt §3) — isothermal
+    (n = 1) V_g0·p₀/p². What separates it from a hose on that line (the other compliance one
+    chamber can carry) is the pressure dependence: the pocket's capacitance falls as
+    1/p^(1 + 1/n), a hose's stays V/β. Each amount may stay at "off" (both primary, as the rod
+    seals' conductances are), sized by the chamber's dead volume V_i (free air 1e-3 … 1 per
+    volume of it, as the shared fraction). None when the actuator holds no oil of its own (its
+    air already goes per chamber: :func:`_air_volumes`)."""
+    if act.param("air") is None or not _holds_oil(ctx, act):
+        return None
+    vols = act.params("dead_volumes")
+    if len(vols) != len(nodes):
+        return None
+    try:
+        sizes = [max(ctx.value(v), 1e-6) for v in vols]
+    except (KeyError, TypeError, ValueError):
+        return None
+    try:
+        typ, role = ctx.element(R.GAS_VOLUME, Domain.HYDRAULIC)
+    except KeyError:
+        return None
+    names = [A.unique_name(ctx.net, f"{act.name}_pocket_{i + 1}") for i in range(len(nodes))]
+    v0, n_air = role.param("gas_volume"), role.param("exponent")
+    # started at 1e-6 of the dead volume: 0.006 % of the chamber's capacitance at 20 bar
+    params = [NewParam(f"{n}.{v0}", 1e-6 * v, (1e-7 * v, AIR_MAX * v), (1e-3 * v, AIR_MAX * v), 0.03 * v, True)
+              for n, v in zip(names, sizes)]
+    # the gas law's exponent, between small isothermal bubbles and an adiabatic pocket (a companion)
+    params += [NewParam(f"{n}.{n_air}", 1.2, (1.0, 1.4), (1.0, 1.4), 1.2, primary=False, ref=1.2, limits=True)
+               for n in names]
+    fixed = {role.param("precharge"): P_FREE, role.param("oil_volume"): 1e-12}
+
+    def build(net):
+        for n, node, v in zip(names, nodes, sizes):
+            net = A.add(net, n, typ, {role.port("node"): node}, {**fixed, v0: 1e-6 * v, n_air: 1.2})
+        return A.free_new(net, params)
+    return Candidate("entrained_air", act.name, params, build, "continuity",
+                     "a pocket of free air in each chamber, its own amount per chamber (one may stay at off): a "
+                     "compliance that softens as 1/p^(1+1/n), unlike a hose's", variant="pocket")
+
+
+BAND_EDGE = 0.02        # share of the stroke seen over which a band leak's edges open (a seal land crossing a score)
+# the bands a scored barrel's leak is started on, as shares of the stroke seen (lower, upper
+# and middle halves, the three thirds): the fit moves the edges from the best of them
+BAND_STARTS = ((0.0, 0.5), (0.5, 1.0), (0.25, 0.75), (0.0, 1 / 3), (1 / 3, 2 / 3), (2 / 3, 1.0))
+
+
+def _band_leak(ctx: Context, act: Part, a: str, b: str, k: float) -> Candidate | None:
+    """Internal leakage over a BAND of the stroke: a scored barrel (a worn arc of a vane
+    housing) leaks past the seal only while the seal is over the score, q = c·w(x)·(p_A − p_B)
+    (library ``band_restriction``: :class:`~hydrocli.components.hydraulic.band_leak.BandLeak`).
+    What tells it from a leak over the whole stroke is WHERE the drift is: a piston held
+    outside the band does not creep, inside it does at the rate a uniform leak would. The band's
+    ends are companions (positions, started on halves and thirds of the stroke seen); a band
+    fitted beyond the stroke at either end is that end's uniform leak, and the bound it ends on
+    rejects it in favour of the plain law. None without a position range or a library type."""
+    node, ref = act.node("motion"), act.node("reference")
+    rng = ctx.position_range.get(node)
+    if rng is None or ref is None:
+        return None
+    try:
+        typ, role = ctx.element(R.BAND_RESTRICTION, ctx.domain(node), slot="motion")
+    except KeyError:
+        return None
+    lo, hi = rng
+    span = max(hi - lo, 1e-3)
+    name = A.unique_name(ctx.net, f"{act.name}_band_leak")
+    c, x1, x2 = (f"{name}.{role.param(s)}" for s in ("conductance", "band_start", "band_end"))
+    starts = [(lo + f1 * span, lo + f2 * span) for f1, f2 in BAND_STARTS]
+    params = [NewParam(c, 1e-13 * k, (1e-15 * k, 1e-9 * k), (5e-15 * k, 5e-10 * k), 2e-11 * k, True),
+              NewParam(x1, starts[0][0], (lo - 0.5 * span, hi), (lo - 0.5 * span, hi), starts[0][0], primary=False,
+                       scale=span, shapes=tuple(s[0] for s in starts[1:])),
+              NewParam(x2, starts[0][1], (lo, hi + 0.5 * span), (lo, hi + 0.5 * span), starts[0][1], primary=False,
+                       scale=span, shapes=tuple(s[1] for s in starts[1:]))]
+    edge = {role.param("edge"): BAND_EDGE * span}
+
+    def build(net):
+        net = A.add(net, name, typ, {role.port("a"): a, role.port("b"): b, role.port("motion"): node,
+                                     role.port("reference"): ref},
+                    {**edge, role.param("band_start"): starts[0][0], role.param("band_end"): starts[0][1],
+                     role.param("conductance"): 1e-13 * k})
+        return A.free_new(net, params)
+    return Candidate("internal_leakage", act.name, params, build, "continuity",
+                     "laminar leakage across the piston/vane over a band of the stroke only (a scored barrel), "
+                     "q = c·w(x)·(p_A − p_B)", variant="band")
 
 
 def _tank_node(ctx: Context) -> str | None:
