@@ -371,3 +371,21 @@ def test_a_motors_air_is_one_fraction_in_its_chambers_or_volumes_where_it_has_no
         assert names is None or [p.name for p in air[0].params] == names
         aug = build_model(air[0].build(net))
         assert {p.name for p in air[0].params} <= set(aug.free_params)
+
+
+def test_a_band_leak_is_offered_over_the_stroke_seen_and_not_to_a_motor(eha, tmp_path, monkeypatch):
+    """A scored barrel's leak (internal_leakage#band) is started on halves and thirds of the
+    stroke the data show (its ends companions, its conductance the primary, on the laminar
+    candidate's scale); a motor turns on, with no stroke to score, and is not offered one."""
+    net, ctx = eha
+    band = next(c for c in catalogue(ctx)[0] if c.key == "internal_leakage@cylinder#band")
+    c, x1, x2 = band.params
+    assert c.primary and not x1.primary and not x2.primary
+    lo, hi = ctx.position_range["piston"]
+    windows = [(x1.start, x2.start)] + list(zip(x1.shapes, x2.shapes))
+    assert len(windows) == 6 and all(lo <= a < b <= hi for a, b in windows)
+    assert min(a for a, _ in windows) == pytest.approx(lo) and max(b for _, b in windows) == pytest.approx(hi)
+    monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path))
+    winch = load_netlist(Path(__file__).parents[2] / "machines" / "hoist_winch.yaml")
+    wctx = Context(winch, set(build_model(winch).free_params), {"drum_node": (0.0, 8.0)}, {})
+    assert not any(c.variant == "band" for c in catalogue(wctx)[0])

@@ -309,7 +309,10 @@ def _band_leak(ctx: Context, act: Part, a: str, b: str, k: float) -> Candidate |
     outside the band does not creep, inside it does at the rate a uniform leak would. The band's
     ends are companions (positions, started on halves and thirds of the stroke seen); a band
     fitted beyond the stroke at either end is that end's uniform leak, and the bound it ends on
-    rejects it in favour of the plain law. None without a position range or a library type."""
+    rejects it in favour of the plain law. None for an actuator without a stroke (a motor turns
+    on: its role offers no end stops), without a position range or a library type."""
+    if act.param("stop_min") is None:
+        return None
     node, ref = act.node("motion"), act.node("reference")
     rng = ctx.position_range.get(node)
     if rng is None or ref is None:
