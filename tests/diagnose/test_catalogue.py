@@ -375,12 +375,13 @@ def test_a_motors_air_is_one_fraction_in_its_chambers_or_volumes_where_it_has_no
 
 def test_a_band_leak_is_offered_over_the_stroke_seen_and_not_to_a_motor(eha, tmp_path, monkeypatch):
     """A scored barrel's leak (internal_leakage#band) is started on halves and thirds of the
-    stroke the data show (its ends companions, its conductance the primary, on the laminar
-    candidate's scale); a motor turns on, with no stroke to score, and is not offered one."""
+    stroke the data show (its ends companions, its conductance the primary, up to a gouge's
+    groove whatever the actuator's size); a motor turns on, with no stroke to score, and is not offered one."""
     net, ctx = eha
     band = next(c for c in catalogue(ctx)[0] if c.key == "internal_leakage@cylinder#band")
     c, x1, x2 = band.params
     assert c.primary and not x1.primary and not x2.primary
+    assert c.plausible[1] >= 5e-10             # a gouge's groove (not scaled down with the actuator)
     lo, hi = ctx.position_range["piston"]
     windows = [(x1.start, x2.start)] + list(zip(x1.shapes, x2.shapes))
     assert len(windows) == 6 and all(lo <= a < b <= hi for a, b in windows)
