@@ -16,6 +16,14 @@ def band_window(x, x1, x2, d):
     return 0.25 * (1.0 + E.tanh(0.5 * (x - x1) / d)) * (1.0 + E.tanh(0.5 * (x2 - x) / d))
 
 
+def band_params(unit: str, band: str, where: str, end: float, edge: float) -> tuple[Param, ...]:
+    """The band leak's parameters in its motion's unit (m or rad)."""
+    return (Param("c", "m^3/s/Pa", 1e-12, f"leak conductance inside the {band}", min=0.0, bounds=(1e-16, 1e-8)),
+            Param("x1", unit, 0.0, f"where the {band} starts ({where})"),
+            Param("x2", unit, end, f"where the {band} ends ({where})"),
+            Param("d", unit, edge, f"width of the {band}'s edges", positive=True))
+
+
 @register
 class BandLeak(Component):
     """q = c·w(x)·(p_A − p_B) from A to B: a laminar leak (seed 004 eqs. 4–5, c = 1/R) that
@@ -31,12 +39,7 @@ class BandLeak(Component):
     ports = (Port("A", H, "inlet (e.g. chamber A)"), Port("B", H, "outlet (e.g. chamber B)"),
              Port("rod", T, "piston rod (position read only, no force)"),
              Port("body", T, "cylinder body (position read only, usually ground)"))
-    parameters = (
-        Param("c", "m^3/s/Pa", 1e-12, "leak conductance inside the band", min=0.0, bounds=(1e-16, 1e-8)),
-        Param("x1", "m", 0.0, "where the band starts (piston position)"),
-        Param("x2", "m", 0.1, "where the band ends (piston position)"),
-        Param("d", "m", 2e-3, "width of the band's edges", positive=True),
-    )
+    parameters = band_params("m", "band", "piston position", 0.1, 2e-3)
     variables = (VariableSpec("w", "1", "share of the leak open at the piston's position"),
                  VariableSpec("q", "m^3/s", "flow from A to B"))
 
@@ -56,9 +59,4 @@ class BandLeakRotary(BandLeak):
     ports = (Port("A", H, "inlet (e.g. chamber A)"), Port("B", H, "outlet (e.g. chamber B)"),
              Port("rod", R, "vane shaft (angle read only, no torque)"),
              Port("body", R, "housing (angle read only, usually ground)"))
-    parameters = (
-        Param("c", "m^3/s/Pa", 1e-12, "leak conductance inside the arc", min=0.0, bounds=(1e-16, 1e-8)),
-        Param("x1", "rad", 0.0, "where the arc starts (angle)"),
-        Param("x2", "rad", 0.5, "where the arc ends (angle)"),
-        Param("d", "rad", 0.02, "width of the arc's edges", positive=True),
-    )
+    parameters = band_params("rad", "arc", "angle", 0.5, 0.02)

@@ -160,6 +160,21 @@ class Context:
                 return t, r
         raise KeyError(f"no component type offers '{role}' on a {domain.value} node")
 
+    def on_travel(self, act: "Part", role: str) -> tuple[str, str, tuple[float, float], str, Role] | None:
+        """What an element that READS an actuator's travel needs (a leak over a band of it, a
+        cushion at its end): the actuator's motion and reference nodes, the travel seen, and the
+        library type offering ``role`` with its ``motion`` slot on that node's domain (a rod or
+        a shaft). None without a reference, a travel seen, or such a type."""
+        node, ref = act.node("motion"), act.node("reference")
+        rng = self.position_range.get(node)
+        if rng is None or ref is None:
+            return None
+        try:
+            typ, r = self.element(role, self.domain(node), slot="motion")
+        except KeyError:
+            return None
+        return node, ref, rng, typ, r
+
     def on_node(self, node: str) -> list[tuple[str, str]]:
         return self.net.nodes().get(node, [])
 

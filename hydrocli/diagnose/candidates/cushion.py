@@ -46,15 +46,11 @@ def _cushion(ctx: Context, act: Part, end: str) -> Candidate | Skipped | None:
     volume. The chamber keeps its sensors and state. Its position is judged as a stop's
     (started beyond the travel, off; plausible within half the travel of the recorded end),
     the needle and the cushion's length are companions."""
-    node, ref = act.node("motion"), act.node("reference")
-    rng = ctx.position_range.get(node)
-    if rng is None or ref is None:
+    found = ctx.on_travel(act, R.END_CUSHION)
+    if found is None:
         return None
-    try:
-        typ, role = ctx.element(R.END_CUSHION, ctx.domain(node), slot="motion")
-        vtyp, vrole = ctx.element(R.VOLUME, Domain.HYDRAULIC)
-    except KeyError:
-        return None
+    node, ref, (lo, hi), typ, role = found
+    vtyp, vrole = ctx.element(R.VOLUME, Domain.HYDRAULIC)
     slot = "chamber_b" if end == "max" else "chamber_a"
     chamber = act.node(slot)
     if ctx.parts_on(chamber, R.END_CUSHION):
@@ -64,7 +60,6 @@ def _cushion(ctx: Context, act: Part, end: str) -> Candidate | Skipped | None:
         v_dead = ctx.value(vols[1 if end == "max" else 0]) if len(vols) == 2 else 1e-5
     except (KeyError, TypeError, ValueError):
         v_dead = 1e-5
-    lo, hi = rng
     span = max(hi - lo, SPAN_MIN)
     sign = 1.0 if end == "max" else -1.0
     edge = hi if end == "max" else lo
@@ -74,7 +69,7 @@ def _cushion(ctx: Context, act: Part, end: str) -> Candidate | Skipped | None:
     fit = A.unique_name(ctx.net, f"{chamber}_port")
     x_end, length, needle = (f"{name}.{role.param(s)}" for s in ("end", "length", "needle"))
     off = edge + sign * 0.2 * span
-    out_lo, out_hi = ctx.recorded_range.get(node, rng)
+    out_lo, out_hi = ctx.recorded_range.get(node, (lo, hi))
     inside = 0.1 * span
     if end == "max":
         bounds, plaus = (hi - inside, max(hi + 0.5 * span, out_hi + 0.1 * span)), (hi - inside, hi + 0.5 * span)

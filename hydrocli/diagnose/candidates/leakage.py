@@ -313,15 +313,10 @@ def _band_leak(ctx: Context, act: Part, a: str, b: str, k: float) -> Candidate |
     on: its role offers no end stops), without a position range or a library type."""
     if act.param("stop_min") is None:
         return None
-    node, ref = act.node("motion"), act.node("reference")
-    rng = ctx.position_range.get(node)
-    if rng is None or ref is None:
+    found = ctx.on_travel(act, R.BAND_RESTRICTION)
+    if found is None:
         return None
-    try:
-        typ, role = ctx.element(R.BAND_RESTRICTION, ctx.domain(node), slot="motion")
-    except KeyError:
-        return None
-    lo, hi = rng
+    node, ref, (lo, hi), typ, role = found
     span = max(hi - lo, 1e-3)
     name = A.unique_name(ctx.net, f"{act.name}_band_leak")
     c, x1, x2 = (f"{name}.{role.param(s)}" for s in ("conductance", "band_start", "band_end"))
