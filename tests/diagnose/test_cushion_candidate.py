@@ -43,6 +43,12 @@ def test_a_cushion_is_offered_at_each_end_on_the_chamber_that_end_empties(eha):
         c = cands[variant]
         assert c.params[0].primary and c.params[0].scale > 0            # a position, judged as a stop's
         assert not any(p.primary for p in c.params[1:])
+        # the file has no stops: the metal stop behind the cushion comes with it (its end's
+        # position and the contact stiffness), the other end's stop out of reach
+        mine, other = ("x_max", "x_min") if variant == "cushion_max" else ("x_min", "x_max")
+        assert {p.name for p in c.params[3:]} == {f"cylinder.{mine}", "cylinder.k_stop"}
+        far = c.fixed[f"cylinder.{other}"]
+        assert far > TRAVEL[1] + 0.2 if other == "x_max" else far < TRAVEL[0] - 0.2
         aug = c.build(net)
         on_chamber = {comp for comp, _ in aug.nodes()[chamber]}
         assert "cylinder" in on_chamber and f"{chamber}_sensor" in on_chamber and "valve" not in on_chamber
@@ -74,7 +80,7 @@ def test_engaged_the_cushion_raises_the_emptied_chambers_pressure_and_brakes_the
     net, model, cands = eha
     c = cands["cushion_max"]
     aug = build_model(c.build(net))
-    x_end, length, needle = (p.name for p in c.params)
+    x_end, length, needle = (p.name for p in c.params[:3])
     base = _run(model)
     x0 = base.Y[:, model.output_names.index("x")]
     top = float(np.max(x0))

@@ -15,6 +15,7 @@ from .. import augment as A
 from ..measurement import SENSOR_TYPE
 from .base import Candidate, Context, Family, NewParam, Part, Skipped
 from .circuit import valve_kv
+from .leakage import stop_damping, stop_stiffness
 
 SPAN_MIN = 1e-3       # m (rad): the travel below which no end is judged
 ENTRY = 0.005         # share of the travel seen over which the spear closes the outlet
@@ -81,6 +82,7 @@ def _cushion(ctx: Context, act: Part, end: str) -> Candidate | Skipped | None:
                        primary=False, shapes=(0.01 * span, 0.1 * span)),
               NewParam(needle, 0.1 * kv, (1e-4 * kv, 3 * kv), (1e-4 * kv, 3 * kv), 0.1 * kv, True, primary=False,
                        shapes=(0.01 * kv, 0.3 * kv))]
+    fixed = _metal_stop(ctx, act, end, lo, hi, span, params)
     keep = {act.name}
     values = {role.param("open_flow"): OPEN * kv, role.param("check"): OPEN * kv, role.param("direction"): sign,
               role.param("entry"): ENTRY * span, role.param("end"): off, role.param("length"): 0.03 * span,
@@ -95,10 +97,42 @@ def _cushion(ctx: Context, act: Part, end: str) -> Candidate | Skipped | None:
         net = A.add(net, fit, vtyp, {vrole.port("node"): line}, {vrole.param("volume"): LINE_VOLUME * max(v_dead, 1e-6)})
         net = A.add(net, name, typ, {role.port("chamber"): chamber, role.port("line"): line,
                                      role.port("motion"): node, role.port("reference"): ref}, values)
+        if fixed:
+            net = A.set_values(net, fixed)
         net = A.free_new(net, params)
         p0 = (net.doc.get("initial") or {}).get(f"{chamber}.p")
         return A.set_initial(net, {f"{line}.p": p0}) if p0 is not None and not isinstance(p0, dict) else net
-    return Candidate("end_stop", act.name, params, build, "continuity",
+    return Candidate("end_stop", act.name, params, build, "continuity" if not fixed else "force",
                      f"end-position cushioning at the {'upper' if end == 'max' else 'lower'} end: the emptied "
                      "chamber's outflow throttled to a needle over the last part of the stroke",
-                     variant=f"cushion_{end}")
+                     fixed=fixed, variant=f"cushion_{end}")
+
+
+def _metal_stop(ctx: Context, act: Part, end: str, lo: float, hi: float, span: float, params: list) -> dict:
+    """The metal stop the cushion ends at, where the machine file has none (``stop_stiffness``
+    0): a cushion brakes the piston over its last millimetres, the stop behind it takes what is
+    left, and without it a piston the cushion has not stopped overruns the stroke in the
+    model (dev EHA, seed 101: the cushion alone, fitted at 0.1261 m and 3.4 mm long — the
+    truth's place and length — gained 4.8 % of a 181 % held-out error, while the piston ran on
+    through the end). Its position (the end's stop slot) and contact stiffness are added as
+    companions, started where the cushion's end starts; the other end's stop is put out of
+    reach and the contact damping fixed as the stop candidate fixes it. Returns the fixed values
+    ({} when the file has stops, or the actuator offers none)."""
+    names = {s: act.param(s) for s in ("stop_min", "stop_max", "stop_stiffness", "stop_damping")}
+    if None in (names["stop_min"], names["stop_max"], names["stop_stiffness"]):
+        return {}
+    try:
+        if ctx.value(names["stop_stiffness"]) > 0:
+            return {}
+    except (KeyError, TypeError, ValueError):
+        return {}
+    mine, other = ("stop_max", "stop_min") if end == "max" else ("stop_min", "stop_max")
+    x_end = params[0]
+    params += [NewParam(names[mine], x_end.start, x_end.bounds, x_end.plausible, x_end.probe, primary=False,
+                        scale=span),
+               stop_stiffness(ctx, act, names["stop_stiffness"], span)]
+    far = hi + 2.0 * span if other == "stop_max" else lo - 2.0 * span
+    fixed = {names[other]: far}
+    if names["stop_damping"]:
+        fixed[names["stop_damping"]] = stop_damping(ctx, act)
+    return fixed

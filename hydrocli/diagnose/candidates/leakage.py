@@ -177,10 +177,6 @@ class CylinderFamily(Family):
         # it: no stop there is withdrawn as never pressed)
         c_lo, c_hi = ctx.position_censored.get(node, (False, False))
         seen = (-np.inf if c_lo else lo, np.inf if c_hi else hi)
-        # the softest "stop" the fit may reach, in the actuator's own units (N/m for a cylinder,
-        # N·m/rad for a vane): one that still arrests the actuator's force at STOP_PRESSURE
-        # within a tenth of the stroke seen (a rubber bumper), or 1e5 when that is lower
-        k_lo = min(K_STOP_FLOOR, ctx.size(act) * STOP_PRESSURE / (SOFTEST_DEPTH * span))
         # stop positions have no "off" value: judged as positions (plausible range of the value,
         # standard error against the stroke seen)
         # a stop fitted more than a tenth of the stroke beyond every recorded position is not
@@ -205,35 +201,37 @@ class CylinderFamily(Family):
                   NewParam(hi_n, hi + 0.2 * span, (hi - inside, outer[1]),
                            (hi - inside, hi + 0.5 * span), hi + 0.005 * span, scale=span, reach=reach,
                            seen=seen),
-                  # contact stiffness identified too (log scale): a real stop (Hertz/Hunt–Crossley
-                  # contact, a rubber bumper) is far from one fixed linear spring. A soft bumper
-                  # (one that arrests STOP_PRESSURE over BUMPER_DEPTH of the travel) is a basin of
-                  # its own: from a steel stop's stiffness the fit ends on a stiff stop at the
-                  # recorded end (seed 67's vane bumper, 3000 N·m/rad at 0.50 rad: a stop
-                  # of 8·10⁹ at 0.515 rad, P's held-out ESR 2.2 % against a noise of 0.04 %)
-                  NewParam(k_n, 1e8, (k_lo, 1e11), (k_lo, 1e11), 3e8, True, primary=False,
-                           shapes=(self._bumper(ctx, act, span, k_lo),), basins=True)]
+                  stop_stiffness(ctx, act, k_n, span)]
         return self.parameter_candidate(ctx, "end_stop", act.name, params, "force",
                                         "end stops at the stroke ends (steel or a rubber bumper)",
-                                        fixed={c_n: self._stop_damping(ctx, act)} if c_n else None)
+                                        fixed={c_n: stop_damping(ctx, act)} if c_n else None)
 
-    @staticmethod
-    def _bumper(ctx: Context, act: Part, span: float, k_lo: float) -> float:
-        """A soft stop's stiffness: k = size·STOP_PRESSURE / (BUMPER_DEPTH·span), the
-        actuator's force at 100 bar arrested over 1 % of the travel seen (N/m or N·m/rad)."""
-        return float(np.clip(ctx.size(act) * STOP_PRESSURE / (BUMPER_DEPTH * span), k_lo * 1.05, 1e10))
 
-    @staticmethod
-    def _stop_damping(ctx: Context, act: Part) -> float:
-        """The contact damping the stop candidate fixes: C_STOP_REF·(size/REF_SIZE)², the same
-        pressure per displaced flow for every actuator. A damping in a cylinder's N·s/m taken
-        as N·m·s/rad makes a 20 cm³/rad vane's stop a wall: 10⁴ N·m·s/rad at 0.05 rad/s is
-        500 N·m, 2.5× the vane's torque at 100 bar, so no bumper compliance can show (measured
-        on seed 67's vane bumper, 3000 N·m/rad at 0.5 rad: from soft starts the fit
-        still ended on a stiff stop, 8·10⁹ N·m/rad, at 10⁴; at the scaled 0.9 N·m·s/rad the
-        diagnosis found 2985 N·m/rad at 0.50002 rad, P's held-out ESR 0.046 % against a noise
-        of 0.042 %)."""
-        return C_STOP_REF * (ctx.size(act) / REF_SIZE) ** 2
+def stop_stiffness(ctx: Context, act: Part, name: str, span: float) -> NewParam:
+    """A stop's contact stiffness, identified (log scale, a companion): a real stop
+    (Hertz/Hunt–Crossley contact, a rubber bumper) is far from one fixed linear spring. The
+    softest the fit may reach, in the actuator's own units (N/m for a cylinder, N·m/rad for a
+    vane): one that still arrests the actuator's force at STOP_PRESSURE within SOFTEST_DEPTH
+    of the stroke seen, or K_STOP_FLOOR when that is lower. A soft bumper (one that arrests
+    STOP_PRESSURE over BUMPER_DEPTH of the travel: k = size·STOP_PRESSURE/(BUMPER_DEPTH·span))
+    is a basin of its own: from a steel stop's stiffness the fit ends on a stiff stop at the
+    recorded end (seed 67's vane bumper, 3000 N·m/rad at 0.50 rad: a stop of 8·10⁹ at 0.515
+    rad, P's held-out ESR 2.2 % against a noise of 0.04 %)."""
+    k_lo = min(K_STOP_FLOOR, ctx.size(act) * STOP_PRESSURE / (SOFTEST_DEPTH * span))
+    bumper = float(np.clip(ctx.size(act) * STOP_PRESSURE / (BUMPER_DEPTH * span), k_lo * 1.05, 1e10))
+    return NewParam(name, 1e8, (k_lo, 1e11), (k_lo, 1e11), 3e8, True, primary=False, shapes=(bumper,), basins=True)
+
+
+def stop_damping(ctx: Context, act: Part) -> float:
+    """The contact damping the stop candidate fixes: C_STOP_REF·(size/REF_SIZE)², the same
+    pressure per displaced flow for every actuator. A damping in a cylinder's N·s/m taken
+    as N·m·s/rad makes a 20 cm³/rad vane's stop a wall: 10⁴ N·m·s/rad at 0.05 rad/s is
+    500 N·m, 2.5× the vane's torque at 100 bar, so no bumper compliance can show (measured
+    on seed 67's vane bumper, 3000 N·m/rad at 0.5 rad: from soft starts the fit
+    still ended on a stiff stop, 8·10⁹ N·m/rad, at 10⁴; at the scaled 0.9 N·m·s/rad the
+    diagnosis found 2985 N·m/rad at 0.50002 rad, P's held-out ESR 0.046 % against a noise
+    of 0.042 %)."""
+    return C_STOP_REF * (ctx.size(act) / REF_SIZE) ** 2
 
 
 def _holds_oil(ctx: Context, act: Part) -> bool:
