@@ -42,11 +42,13 @@ def test_a_cushion_is_offered_at_each_end_on_the_chamber_that_end_empties(eha):
     for variant, chamber in (("cushion_max", "chamber_2"), ("cushion_min", "chamber_1")):
         c = cands[variant]
         assert c.params[0].primary and c.params[0].scale > 0            # a position, judged as a stop's
-        assert not any(p.primary for p in c.params[1:])
+        assert not any(p.primary for p in c.params[1:3])
         # the file has no stops: the metal stop behind the cushion comes with it (its end's
         # position and the contact stiffness), the other end's stop out of reach
         mine, other = ("x_max", "x_min") if variant == "cushion_max" else ("x_min", "x_max")
         assert {p.name for p in c.params[3:]} == {f"cylinder.{mine}", "cylinder.k_stop"}
+        stop = next(p for p in c.params if p.name == f"cylinder.{mine}")
+        assert stop.primary and stop.reach == c.params[0].reach             # a stop without a cushion is a stop
         far = c.fixed[f"cylinder.{other}"]
         assert far > TRAVEL[1] + 0.2 if other == "x_max" else far < TRAVEL[0] - 0.2
         aug = c.build(net)

@@ -114,9 +114,11 @@ def _metal_stop(ctx: Context, act: Part, end: str, lo: float, hi: float, span: f
     left, and without it a piston the cushion has not stopped overruns the stroke in the
     model (dev EHA, seed 101: the cushion alone, fitted at 0.1261 m and 3.4 mm long — the
     truth's place and length — gained 4.8 % of a 181 % held-out error, while the piston ran on
-    through the end). Its position (the end's stop slot) and contact stiffness are added as
-    companions, started where the cushion's end starts; the other end's stop is put out of
-    reach and the contact damping fixed as the stop candidate fixes it. Returns the fixed values
+    through the end). Its position (the end's stop slot, judged as a stop's: a primary, so a
+    stop without a cushion — the fit moving the cushion out of reach — is still the end stop it
+    is: the concealed head stop at 0.128 m was found at 0.12795 m that way) and the contact
+    stiffness (a companion) start where the cushion's end starts; the other end's stop is put
+    out of reach and the contact damping fixed as the stop candidate fixes it. Returns the fixed values
     ({} when the file has stops, or the actuator offers none)."""
     names = {s: act.param(s) for s in ("stop_min", "stop_max", "stop_stiffness", "stop_damping")}
     if None in (names["stop_min"], names["stop_max"], names["stop_stiffness"]):
@@ -128,8 +130,8 @@ def _metal_stop(ctx: Context, act: Part, end: str, lo: float, hi: float, span: f
         return {}
     mine, other = ("stop_max", "stop_min") if end == "max" else ("stop_min", "stop_max")
     x_end = params[0]
-    params += [NewParam(names[mine], x_end.start, x_end.bounds, x_end.plausible, x_end.probe, primary=False,
-                        scale=span),
+    params += [NewParam(names[mine], x_end.start, x_end.bounds, x_end.plausible, x_end.probe, scale=span,
+                        reach=x_end.reach),
                stop_stiffness(ctx, act, names["stop_stiffness"], span)]
     far = hi + 2.0 * span if other == "stop_max" else lo - 2.0 * span
     fixed = {names[other]: far}
