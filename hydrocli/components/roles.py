@@ -38,6 +38,10 @@ gas_volume         ports node; params gas_volume (at the precharge), precharge (
                    (polytropic), oil_volume (of its port): a gas spring on a node
 restriction        ports a, b; params conductance (turbulent: q = K·√Δp)
 laminar_restriction ports a, b; params resistance (Δp = R·q)
+end_cushion        ports chamber, line, motion, reference; params open_flow (the outlet's flow coefficient
+                   away from the end), needle (the cushioning orifice's), check (the inflow bypass),
+                   end (the cushioned end's position), direction (+1 extended end, −1 retracted),
+                   length (the needle-only travel), entry (over which the outlet closes)
 band_restriction   ports a, b, motion, reference; params conductance (laminar, inside the band),
                    band_start, band_end (positions), edge (width of the band's edges)
 weight             ports node; params weight (a gravity load's force or moment), hanging (a
@@ -63,6 +67,7 @@ GAS_VOLUME = "gas_volume"
 RESTRICTION = "restriction"
 LAMINAR_RESTRICTION = "laminar_restriction"
 BAND_RESTRICTION = "band_restriction"
+END_CUSHION = "end_cushion"
 WEIGHT = "weight"
 PENDULUM = "pendulum"
 

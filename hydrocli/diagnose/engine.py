@@ -35,7 +35,7 @@ from .candidates import COMPLIANCES, SWITCHING, Candidate, catalogue
 from .equations import located_equations
 from .measurement import with_pressure_sensors
 from .ranking import ALTERNATIVE
-from .shortlist import shortlist
+from .shortlist import after_wave, shortlist
 from .stage import (Baseline, Diagnosis, Round, Settings, Setup, Stage, context, context_of, fit_status, fmt_esr,
                     log, make_stage, stops_of)
 
@@ -251,8 +251,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         # a runaway piston at pA ESR 95 %: the missing end stop screened fifth, 10 %, behind
         # four effects a fit could not use; with a residual that slow, n_eff 24, no score test
         # is significant, so the order alone decides)
-        fitted = {c.effect for c in order if c.key in fits}
-        remaining = [c for c in remaining if c.effect not in fitted]
+        remaining = after_wave(remaining, set(fits))
         if passing or findings.unexplained(stage.esr_validation, su.noise, located) is None:
             break
     v_base = min([v for _, v in base_ref.values()] + [residuals.total(stage.esr_validation)])

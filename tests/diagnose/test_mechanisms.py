@@ -194,6 +194,19 @@ def test_shortlist_adds_the_best_competing_candidate_of_each_other_balance():
     assert [c.key for c in shortlist(order, scores, 3)] == ["mount", "hyst", "lag", "leak"]
 
 
+def test_a_failed_law_leaves_the_effects_other_laws_for_the_next_wave():
+    """engine waves: a fitted effect is done, unless it is offered in several laws (an end stop:
+    a plain stop or a cushion at either end) — then only the law fitted is."""
+    from hydrocli.diagnose.candidates import LAWS
+    from hydrocli.diagnose.shortlist import after_wave
+    assert "end_stop" in LAWS and "input_delay" not in LAWS
+    order, _ = _screened(("cushion_min", "force", "end_stop", 0.5), ("delay", "signal", "input_delay", 0.3),
+                         ("delay2", "signal", "input_delay", 0.25), ("cushion_max", "force", "end_stop", 0.2),
+                         ("stop", "force", "end_stop", 0.12), ("air", "continuity", "entrained_air", 0.1))
+    assert [c.key for c in after_wave(order, {"cushion_min", "delay"})] == ["cushion_max", "stop", "air"]
+    assert [c.key for c in after_wave(order, set())] == [c.key for c in order]
+
+
 def test_a_findings_readings_are_fitted_whatever_they_screen():
     """Grown chamber volumes on trial leave the residual at the noise: air and a hose screen
     0.0 %, not significant. Both readings are fitted all the same (readings=...), once each, and
@@ -770,8 +783,8 @@ def _two_lag_response(model, text, tmp_path):
 
 def test_end_stops_already_in_the_file_are_not_offered_as_missing():
     """The Festo rig's full machine has its steel stops (k_stop 1e8 N/m): where they sit is a
-    parameter of the file, not missing physics, so no end_stop candidate; the same machine
-    without stops gets one."""
+    parameter of the file, not missing physics, so no end_stop candidate (nor a cushion: it has
+    them); the same machine without stops gets one."""
     out = {}
     for name in ("festo_tp511", "festo_tp511_no_endstops"):
         net = load_netlist(ROOT / "machines" / f"{name}.yaml")
@@ -779,9 +792,12 @@ def test_end_stops_already_in_the_file_are_not_offered_as_missing():
         node = ctx0.parts(R.ACTUATOR)[0].node("motion")
         cands, skipped = catalogue(Context(net, set(), {node: (0.0, 0.195)}, {}, {}))
         out[name] = ([c for c in cands if c.effect == "end_stop"], [s for s in skipped if s.effect == "end_stop"])
-    assert not out["festo_tp511"][0] and "already has end stops" in out["festo_tp511"][1][0].reason
-    assert [[p.name for p in c.params] for c in out["festo_tp511_no_endstops"][0]] == \
+    assert not out["festo_tp511"][0] and "already has end stops" in out["festo_tp511"][1][-1].reason
+    assert any("cushioned in the machine already" in s.reason for s in out["festo_tp511"][1])
+    assert [[p.name for p in c.params] for c in out["festo_tp511_no_endstops"][0] if not c.variant] == \
         [["cylinder.x_min", "cylinder.x_max", "cylinder.k_stop"]]
+    # without its cushions and stops, a cushion at each end is offered as well (candidates/cushion.py)
+    assert sorted(c.variant for c in out["festo_tp511_no_endstops"][0] if c.variant) == ["cushion_max", "cushion_min"]
 
 
 def test_a_vane_actuator_offers_end_stops_in_its_own_units():

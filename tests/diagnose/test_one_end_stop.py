@@ -34,4 +34,7 @@ def test_the_head_stop_pressed_alone_is_found_where_the_truth_has_it():
     params = {p["name"]: p for p in d.data["accepted"][0]["parameters"]}
     assert abs(params["cylinder.x_max"]["value"] - truth) < 2e-3      # within 2 mm of the truth's stop
     assert "withdrawn" not in params["cylinder.x_max"]
-    assert "withdrawn" in params["cylinder.x_min"]                    # the bottom is never pressed
+    # the bottom is never pressed: withdrawn (the stop candidate), or out of reach from the start
+    # (a cushion's candidate, which brings the stop of its own end only)
+    assert "withdrawn" in params["cylinder.x_min"] if "cylinder.x_min" in params else \
+        any(n.startswith("cylinder_cushion_max.") for n in params)

@@ -10,6 +10,8 @@ from ...model import expr as E
 from ..base import Component, H, Param, Port, T, VariableSpec
 from ..registry import register
 from ..two_port import across_drop, branch
+from .. import roles as RL
+from ..roles import role
 
 
 def cushion_opening(d, length, w, eps):
@@ -33,6 +35,9 @@ class EndCushion(Component):
     pressure Δp = (A v / K)²; with a taper the speed decays ~exponentially towards the stop."""
 
     type = "end_cushion"
+    roles = (role(RL.END_CUSHION, {"chamber": "chamber", "line": "line", "motion": "rod", "reference": "body"},
+                  open_flow="Kv", needle="Kv_needle", check="Kv_check", end="x_end", direction="direction",
+                  length="L", entry="w"),)
     family = "hydraulic"
     description = "Cylinder end-position cushioning: outlet throttled to a needle orifice over the last L of stroke"
     source = "Festo DSNU/DNC cushioning (spear + needle + check valve); turbulent orifice as seed 004 eq. 3"

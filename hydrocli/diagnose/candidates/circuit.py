@@ -96,7 +96,7 @@ class CircuitFamily(Family):
             return Skipped("supply_pressure_drop", f"no pressure source at the supply of '{valve}'")
         src = [srcs[0].name]
         out_port = srcs[0].role.port("out")
-        kv = _valve_kv(ctx, valve)
+        kv = valve_kv(ctx, valve)
         orf = A.unique_name(ctx.net, "supply_orifice")
         vol = A.unique_name(ctx.net, "supply_volume")
         new = A.unique_name(ctx.net, f"{node}_source")
@@ -122,7 +122,7 @@ class CircuitFamily(Family):
                          "+ line/accumulator volume)")
 
 
-def _valve_kv(ctx: Context, valve: str) -> float:
+def valve_kv(ctx: Context, valve: str) -> float:
     """The valve's flow coefficient per edge (SI, its role's ``flow_gain``), or a mid-size
     valve's when not readable."""
     part = next((p for p in ctx.parts(R.METERING_VALVE) if p.name == valve), None)
