@@ -90,3 +90,45 @@ def test_check_valve_lets_the_oil_back_in():
     assert r["cush.K"][1] == pytest.approx(KN, rel=1e-3)
     X[:, m.state_index("cb.p")] = P_T
     assert m.evaluate_along(tr.t[:2], X, np.zeros((2, 0)), m.p0)["cush.K"][0] == pytest.approx(KN, rel=1e-3)
+
+
+def _vane(torque, x_end=0.2, length=0.05):
+    """A vane actuator turned by a constant torque towards its upper end; chamber 1 vented to
+    tank, chamber 2 draining to tank through the rotary cushion (angles in rad)."""
+    return f"""
+name: rotary_cushion_test
+components:
+  tank: {{type: tank, ports: {{T: t}}, p: {P_T}}}
+  vane: {{type: vane_actuator, ports: {{A: ca, B: cb, shaft: shaft, body: ground}}, D_v: 1.0e-5, V_1: 2.0e-5,
+          V_2: 2.0e-5, R_v: 0.0}}
+  vent: {{type: orifice, ports: {{A: t, B: ca}}, Kv: 1.0e-5, dp_lam: 100}}
+  cush:
+    type: end_cushion_rotary
+    ports: {{chamber: cb, line: t, rod: shaft, body: ground}}
+    Kv: {KV}
+    Kv_needle: {KN}
+    x_end: {x_end}
+    direction: 1
+    L: {length}
+    w: 0.01
+    eps: 0.001
+    dp_lam: 100
+  push: {{type: torque_source, ports: {{a: shaft}}, tau0: {torque}}}
+  load: {{type: inertia, ports: {{r: shaft}}, J: 0.01}}
+initial: {{ca.p: {P_T}, cb.p: {P_T}}}
+"""
+
+
+def test_a_rotary_cushion_holds_the_needle_law_in_rad():
+    """The vane's torque balance in the needle zone: T = D_v·(p_2 − p_T), so the cushion
+    pressure is Δp = T/D_v and the creep speed ω = K_n·sqrt(Δp)/D_v; far from the end the
+    main outlet is open (K = Kv + K_n), within the cushion's length only the needle."""
+    torque, d_v = 10.0, 1e-5
+    m, tr, _ = run(_vane(torque), 1.5, x0={"shaft.theta": 0.3})
+    dp = torque / d_v
+    assert col(m, tr, "cb.p")[-1] - P_T == pytest.approx(dp, rel=2e-3)
+    assert col(m, tr, "shaft.w")[-1] == pytest.approx(KN * np.sqrt(dp) / d_v, rel=2e-3)
+    for th0, g in ((0.2 - 0.3, 1.0), (0.2 - 0.05 - 0.005, 0.5), (0.2 - 0.025, 0.0)):
+        m, tr, _ = run(_vane(0.0), 1e-3, n=11, x0={"shaft.theta": th0})
+        k = m.evaluate_along(tr.t[:1], tr.X[:1], np.zeros((1, 0)), m.p0)["cush.K"][0]
+        assert k == pytest.approx(KV * g + KN, rel=1e-3)

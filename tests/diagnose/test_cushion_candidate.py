@@ -95,3 +95,48 @@ def test_engaged_the_cushion_raises_the_emptied_chambers_pressure_and_brakes_the
     assert np.max(p2_1[near] - p2_0[near]) > 5e5                      # the needle holds back chamber B
     assert np.max(x1) < top - 1e-3                                     # braked before the uncushioned top
     assert far.sum() > 100 and np.max(np.abs(p2_1[far] - p2_0[far])) < 5e3
+
+
+@pytest.fixture(scope="module")
+def vane(tmp_path_factory):
+    import os
+    os.environ.setdefault("HYDRO_CACHE_DIR", str(tmp_path_factory.mktemp("cache")))
+    net, _ = with_pressure_sensors(load_netlist(MACHINE.parent / "rotary_drive.yaml"))
+    model = build_model(net)
+    ctx = Context(net, set(model.free_params), {"arm_node": (-0.025, 0.52)}, {})
+    cands = {c.variant: c for c in catalogue(ctx)[0] if c.effect == "end_stop"}
+    return net, model, cands
+
+
+def _swing(model, p=None):
+    """The vane drive swung up to about 0.52 rad and back: a slow 0.25 Hz command."""
+    t = np.linspace(0.0, 4.0, 2001)
+    U = np.column_stack([0.1 * np.sin(2 * np.pi * 0.25 * t) if n == "u" else np.full(t.size, 1.6e7)
+                         for n in model.input_names])
+    return simulate(model, InputTable(t, U), t, p=model.p0 if p is None else p, opts=SolverOptions(rtol=1e-7))
+
+
+def test_a_vane_is_offered_a_rotary_cushion_that_brakes_the_swing_near_its_end(vane):
+    """A vane actuator's swing ends like a piston's stroke: the cushion (its end, length and
+    needle in rad, library ``end_cushion_rotary``) sits on the chamber that end empties. Off
+    it changes nothing; engaged near the top of the swing the oil leaving chamber 2 must pass
+    the needle, chamber 2's pressure rises and the arm stops short of the uncushioned top."""
+    net, model, cands = vane
+    assert {"cushion_max", "cushion_min"} <= set(cands)
+    c = cands["cushion_max"]
+    aug_net = c.build(net)
+    cushion = next(n for n, k in aug_net.components.items() if k.type == "end_cushion_rotary")
+    assert aug_net.components[cushion].ports["chamber"] == "chamber_2"
+    aug = build_model(aug_net)
+    base = _swing(model)
+    th0 = base.Y[:, model.output_names.index("theta")]
+    i2, j2 = model.output_names.index("P2"), aug.output_names.index("P2")
+    off = _swing(aug)
+    assert np.max(np.abs(off.Y[:, j2] - base.Y[:, i2])) < 5e3
+    assert np.max(np.abs(off.Y[:, aug.output_names.index("theta")] - th0)) < 5e-5      # 0.003°
+    x_end, length, needle = (p.name for p in c.params[:3])
+    top = float(np.max(th0))
+    on = _swing(aug, aug.param_vector({x_end: top + 0.02, length: 0.1, needle: 5e-10}))
+    near = th0 > top - 0.05
+    assert np.max(on.Y[near, j2] - base.Y[near, i2]) > 5e5
+    assert np.max(on.Y[:, aug.output_names.index("theta")]) < top - 0.01

@@ -7,7 +7,7 @@ H. Murrenhoff, *Grundlagen der Fluidtechnik I*, §8 (Endlagendämpfung)."""
 from __future__ import annotations
 
 from ...model import expr as E
-from ..base import Component, H, Param, Port, T, VariableSpec
+from ..base import Component, H, Param, Port, R, T, VariableSpec
 from ..registry import register
 from ..two_port import across_drop, branch
 from .. import roles as RL
@@ -20,6 +20,32 @@ def cushion_opening(d, length, w, eps):
     smoothed over eps·w at both corners; over the last L only the needle is left."""
     r = (d - length) / w
     return E.smooth_pos(r, eps) - E.smooth_pos(r - 1.0, eps)
+
+
+def cushion_params(unit: str, where: str, x: str, length: float, length_max: float, entry: float,
+                   entry_bounds: tuple[float, float]) -> tuple[Param, ...]:
+    """The cushion's parameters, its positions in its motion's unit (m for a rod, rad for a
+    vane shaft)."""
+    return (
+        Param("Kv", "m^3/s/Pa^0.5", 1e-7, "main outlet (and line) flow coefficient, away from the end",
+              min=0.0, bounds=(1e-10, 1e-4)),
+        Param("Kv_needle", "m^3/s/Pa^0.5", 1e-9, "cushioning needle orifice coefficient (adjustable screw)",
+              min=0.0, bounds=(1e-12, 1e-6)),
+        Param("Kv_spear", "m^3/s/Pa^0.5", 0.0, "tapered spear: gap coefficient at the cushion's start, "
+              "falling linearly to 0 at the stop (0 = cylindrical spear, needle only)", min=0.0, bounds=(0.0, 1e-6)),
+        Param("Kv_check", "m^3/s/Pa^0.5", 0.0, "check valve bypass for flow into the chamber (0 = none)",
+              min=0.0, bounds=(0.0, 1e-5)),
+        Param("p_crack", "Pa", 5e4, "check valve cracking pressure (opens over ±10 % of it)", positive=True),
+        Param("x_end", unit, 0.0, f"{where} of the cushioned end stop"),
+        Param("direction", "1", 1.0, f"+1: cushion at the upper end ({x} near x_end from below); "
+              f"−1: at the lower end ({x} near x_end from above)", structural=True, min=-1, max=1),
+        Param("L", unit, length, "cushion length (needle-only travel before the stop)",
+              min=0.0, bounds=(0.0, length_max)),
+        Param("w", unit, entry, "spear entry length over which the main outlet closes", positive=True,
+              bounds=entry_bounds),
+        Param("eps", "1", 0.02, "corner smoothing of the opening, as a fraction of w", positive=True),
+        Param("dp_lam", "Pa", 5e4, "laminar/turbulent transition pressure drop", positive=True),
+    )
 
 
 @register
@@ -47,26 +73,7 @@ class EndCushion(Component):
         Port("rod", T, "piston rod (position read only, no force)"),
         Port("body", T, "cylinder body (position read only, usually ground)"),
     )
-    parameters = (
-        Param("Kv", "m^3/s/Pa^0.5", 1e-7, "main outlet (and line) flow coefficient, away from the end",
-              min=0.0, bounds=(1e-10, 1e-4)),
-        Param("Kv_needle", "m^3/s/Pa^0.5", 1e-9, "cushioning needle orifice coefficient (adjustable screw)",
-              min=0.0, bounds=(1e-12, 1e-6)),
-        Param("Kv_spear", "m^3/s/Pa^0.5", 0.0, "tapered spear: gap coefficient at the cushion's start, "
-              "falling linearly to 0 at the stop (0 = cylindrical spear, needle only)", min=0.0, bounds=(0.0, 1e-6)),
-        Param("Kv_check", "m^3/s/Pa^0.5", 0.0, "check valve bypass for flow into the chamber (0 = none)",
-              min=0.0, bounds=(0.0, 1e-5)),
-        Param("p_crack", "Pa", 5e4, "check valve cracking pressure (opens over ±10 % of it)", positive=True),
-        Param("x_end", "m", 0.0, "piston position of the cushioned end stop"),
-        Param("direction", "1", 1.0, "+1: cushion at the extended end (x near x_end from below); "
-              "−1: at the retracted end (x near x_end from above)", structural=True, min=-1, max=1),
-        Param("L", "m", 0.01, "cushion length (needle-only travel before the stop)",
-              min=0.0, bounds=(0.0, 0.1)),
-        Param("w", "m", 1e-3, "spear entry length over which the main outlet closes", positive=True,
-              bounds=(1e-5, 0.05)),
-        Param("eps", "1", 0.02, "corner smoothing of the opening, as a fraction of w", positive=True),
-        Param("dp_lam", "Pa", 5e4, "laminar/turbulent transition pressure drop", positive=True),
-    )
+    parameters = cushion_params("m", "piston position", "x", 0.01, 0.1, 1e-3, (1e-5, 0.05))
     variables = (
         VariableSpec("g", "1", "open fraction of the main outlet"),
         VariableSpec("K", "m^3/s/Pa^0.5", "effective flow coefficient"),
@@ -90,3 +97,20 @@ class EndCushion(Component):
 
     def check(self, values):
         return [] if values["direction"] in (1.0, -1.0) else ["direction must be +1 (extended end) or -1 (retracted end)"]
+
+
+@register
+class EndCushionRotary(EndCushion):
+    """:class:`EndCushion` at an end of a vane's (or rotary piston's) swing: the vane closes
+    the chamber's main outlet groove over its last part of the swing and the oil leaves through
+    the needle (cushioned rotary actuators, e.g. Parker HTR, Micromatic); angles in rad."""
+
+    type = "end_cushion_rotary"
+    description = "Rotary actuator end-position cushioning: outlet throttled to a needle over the last L of swing"
+    ports = (
+        Port("chamber", H, "actuator chamber being cushioned"),
+        Port("line", H, "line/valve side of the outlet"),
+        Port("rod", R, "vane shaft (angle read only, no torque)"),
+        Port("body", R, "housing (angle read only, usually ground)"),
+    )
+    parameters = cushion_params("rad", "vane angle", "θ", 0.1, 1.0, 0.01, (1e-4, 0.5))
