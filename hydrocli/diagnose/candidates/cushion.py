@@ -1,7 +1,8 @@
 """End-position cushioning (an ``end_stop`` form): over the last millimetres of stroke a
 spear closes the chamber's outlet and the oil leaves through a needle orifice, so the piston
 is braked hydraulically before it reaches the metal stop (Festo DSNU/DNC data sheets;
-Murrenhoff, *Grundlagen der Fluidtechnik I* §8; library ``end_cushion``).
+Murrenhoff, *Grundlagen der Fluidtechnik I* §8; library ``end_cushion``; a vane's swing alike,
+``end_cushion_rotary``, angles in rad).
 
 What tells a cushion from a stiff or soft stop is WHERE the force comes from: a stop pushes
 on the rod (force balance) at the end itself, a cushion throttles the outflow of the chamber
