@@ -52,7 +52,8 @@ def stops_if_needed(net: Netlist, model: Model, train, ctx: Context) -> Runaway 
     if failure is None:
         return None
     cands, _ = catalogue(ctx)
-    for c in (c for c in cands if c.effect == "end_stop"):
+    # plain stops at both ends first (a cushion's metal stop holds one end only)
+    for c in sorted((c for c in cands if c.effect == "end_stop"), key=lambda c: bool(c.variant)):
         # the probe values: stops just beyond the recorded ends, stiff
         aug = augment.set_values(c.build(net), {p.name: p.probe for p in c.params})
         m = build_model(aug)

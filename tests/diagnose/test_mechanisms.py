@@ -812,8 +812,10 @@ def test_a_vane_actuator_offers_end_stops_in_its_own_units():
     model = build_model(net)
     assert augment.output_symbols_expr(model, "theta") == {"arm_node"}
     cands, skipped = catalogue(Context(net, set(), {"arm_node": (-0.5, 0.5)}, {}, {}))
-    stops = [c for c in cands if c.effect == "end_stop"]
+    stops = [c for c in cands if c.effect == "end_stop" and not c.variant]
     assert len(stops) == 1, [s.reason for s in skipped if s.effect == "end_stop"]
+    # and a cushion at each end of the swing (end_cushion_rotary, candidates/cushion.py)
+    assert sorted(c.variant for c in cands if c.effect == "end_stop" and c.variant) == ["cushion_max", "cushion_min"]
     by_name = {p.name: p for p in stops[0].params}
     assert set(by_name) == {"vane.theta_min", "vane.theta_max", "vane.k_stop"}
     d_v = net.components["vane"].params["D_v"].value
@@ -831,7 +833,7 @@ def test_a_stop_the_training_never_pressed_is_withdrawn_beyond_every_recording()
     from hydrocli.model.builder import build_model
     net = load_netlist(ROOT / "machines" / "rotary_drive.yaml")
     ctx = Context(net, set(), {"arm_node": (0.0, 0.52)}, {}, {}, recorded_range={"arm_node": (-0.80, 0.52)})
-    stop = next(c for c in catalogue(ctx)[0] if c.effect == "end_stop")
+    stop = next(c for c in catalogue(ctx)[0] if c.effect == "end_stop" and not c.variant)
     lo, hi = stop.params[0], stop.params[1]
     assert lo.bounds[0] == pytest.approx(-0.80 - 0.052) and lo.plausible[0] == pytest.approx(-0.26)
     assert hi.bounds[1] == pytest.approx(0.52 + 0.26)           # the training's half travel is further
@@ -847,7 +849,8 @@ def test_a_stop_the_training_never_pressed_is_withdrawn_beyond_every_recording()
     assert withdraw_idle_stops(obj, model, res, stops) == ["vane.theta_min", "vane.theta_max"]
     assert res.p[model.param_index("vane.theta_min")] < -0.80
     # without held-out travel beyond the training's, the bounds are as before
-    plain = next(c for c in catalogue(Context(net, set(), {"arm_node": (0.0, 0.52)}, {}, {}))[0] if c.effect == "end_stop")
+    plain = next(c for c in catalogue(Context(net, set(), {"arm_node": (0.0, 0.52)}, {}, {}))[0]
+                 if c.effect == "end_stop" and not c.variant)
     assert plain.params[0].bounds[0] == pytest.approx(-0.26)
 
 
