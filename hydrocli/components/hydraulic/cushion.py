@@ -22,6 +22,13 @@ def cushion_opening(d, length, w, eps):
     return E.smooth_pos(r, eps) - E.smooth_pos(r - 1.0, eps)
 
 
+def cushion_ports(motion, chamber: str, rod: str, body: str) -> tuple[Port, ...]:
+    """The cushion's ports: the chamber and its line (hydraulic), the moving part and its
+    reference on ``motion``'s domain (translational or rotational), read only."""
+    return (Port("chamber", H, f"{chamber} being cushioned"), Port("line", H, "line/valve side of the outlet"),
+            Port("rod", motion, rod), Port("body", motion, body))
+
+
 def cushion_params(unit: str, where: str, x: str, length: float, length_max: float, entry: float,
                    entry_bounds: tuple[float, float]) -> tuple[Param, ...]:
     """The cushion's parameters, its positions in its motion's unit (m for a rod, rad for a
@@ -67,12 +74,8 @@ class EndCushion(Component):
     family = "hydraulic"
     description = "Cylinder end-position cushioning: outlet throttled to a needle orifice over the last L of stroke"
     source = "Festo DSNU/DNC cushioning (spear + needle + check valve); turbulent orifice as seed 004 eq. 3"
-    ports = (
-        Port("chamber", H, "cylinder chamber being cushioned"),
-        Port("line", H, "line/valve side of the outlet"),
-        Port("rod", T, "piston rod (position read only, no force)"),
-        Port("body", T, "cylinder body (position read only, usually ground)"),
-    )
+    ports = cushion_ports(T, "cylinder chamber", "piston rod (position read only, no force)",
+                          "cylinder body (position read only, usually ground)")
     parameters = cushion_params("m", "piston position", "x", 0.01, 0.1, 1e-3, (1e-5, 0.05))
     variables = (
         VariableSpec("g", "1", "open fraction of the main outlet"),
@@ -107,10 +110,8 @@ class EndCushionRotary(EndCushion):
 
     type = "end_cushion_rotary"
     description = "Rotary actuator end-position cushioning: outlet throttled to a needle over the last L of swing"
-    ports = (
-        Port("chamber", H, "actuator chamber being cushioned"),
-        Port("line", H, "line/valve side of the outlet"),
-        Port("rod", R, "vane shaft (angle read only, no torque)"),
-        Port("body", R, "housing (angle read only, usually ground)"),
-    )
+    source = ("rotary actuator cushioning (the vane closes the outlet groove; needle + check valve); "
+              "turbulent orifice as seed 004 eq. 3")
+    ports = cushion_ports(R, "actuator chamber", "vane shaft (angle read only, no torque)",
+                          "housing (angle read only, usually ground)")
     parameters = cushion_params("rad", "vane angle", "θ", 0.1, 1.0, 0.01, (1e-4, 0.5))
