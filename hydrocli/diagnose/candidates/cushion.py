@@ -28,10 +28,10 @@ OPEN = 100.0          # × the valve's flow coefficient: the open outlet and the
 class CushionFamily(Family):
     effects = ("end_stop",)
     switching = frozenset({"end_stop"})
-    # a stop and a cushion are two laws of one effect (where the force comes from): once the
-    # effect is shortlisted every significant one is fitted, not only the best-screening one
-    # (the Festo rig without its stops: a cushion at the wrong end screened above the stops,
-    # took the effect's place in the shortlist and failed, and a sensor lag was named)
+    # a stop and a cushion at either end are laws of one effect (where the force comes from):
+    # once the effect is shortlisted every significant one is fitted, and one that fails leaves
+    # the others to the next wave (shortlist.after_wave; the Festo rig without its stops: a
+    # cushion at the wrong end screened above the stops, failed, and hid them)
     laws = frozenset({"end_stop"})
 
     def candidates(self, ctx: Context):
@@ -88,7 +88,8 @@ def _cushion(ctx: Context, act: Part, end: str) -> Candidate | Skipped | None:
                        primary=False, shapes=(0.01 * span, 0.1 * span)),
               NewParam(needle, 0.1 * kv, (1e-4 * kv, 3 * kv), (1e-4 * kv, 3 * kv), 0.1 * kv, True, primary=False,
                        shapes=(0.01 * kv, 0.3 * kv))]
-    fixed = _metal_stop(ctx, act, end, lo, hi, span, params)
+    stop, fixed = _metal_stop(ctx, act, end, lo, hi, span, params[0])
+    params += stop
     keep = {act.name}
     values = {role.param("open_flow"): OPEN * kv, role.param("check"): OPEN * kv, role.param("direction"): sign,
               role.param("entry"): ENTRY * span, role.param("end"): off, role.param("length"): 0.03 * span,
@@ -114,7 +115,8 @@ def _cushion(ctx: Context, act: Part, end: str) -> Candidate | Skipped | None:
                      fixed=fixed, variant=f"cushion_{end}")
 
 
-def _metal_stop(ctx: Context, act: Part, end: str, lo: float, hi: float, span: float, params: list) -> dict:
+def _metal_stop(ctx: Context, act: Part, end: str, lo: float, hi: float, span: float,
+                x_end: NewParam) -> tuple[list[NewParam], dict]:
     """The metal stop the cushion ends at, where the machine file has none (``stop_stiffness``
     0): a cushion brakes the piston over its last millimetres, the stop behind it takes what is
     left, and without it a piston the cushion has not stopped overruns the stroke in the
@@ -123,24 +125,24 @@ def _metal_stop(ctx: Context, act: Part, end: str, lo: float, hi: float, span: f
     through the end). Its position (the end's stop slot, judged as a stop's: a primary, so a
     stop without a cushion — the fit moving the cushion out of reach — is still the end stop it
     is: the concealed head stop at 0.128 m was found at 0.12795 m that way) and the contact
-    stiffness (a companion) start where the cushion's end starts; the other end's stop is put
-    out of reach and the contact damping fixed as the stop candidate fixes it. Returns the fixed values
-    ({} when the file has stops, or the actuator offers none)."""
+    stiffness (a companion) start where the cushion's end (``x_end``) starts; the other end's
+    stop is put out of reach and the contact damping fixed as the stop candidate fixes it.
+    Returns the stop's new parameters and the fixed values (none when the file has stops, or
+    the actuator offers none)."""
     names = {s: act.param(s) for s in ("stop_min", "stop_max", "stop_stiffness", "stop_damping")}
     if None in (names["stop_min"], names["stop_max"], names["stop_stiffness"]):
-        return {}
+        return [], {}
     try:
         if ctx.value(names["stop_stiffness"]) > 0:
-            return {}
+            return [], {}
     except (KeyError, TypeError, ValueError):
-        return {}
+        return [], {}
     mine, other = ("stop_max", "stop_min") if end == "max" else ("stop_min", "stop_max")
-    x_end = params[0]
-    params += [NewParam(names[mine], x_end.start, x_end.bounds, x_end.plausible, x_end.probe, scale=span,
-                        reach=x_end.reach),
-               stop_stiffness(ctx, act, names["stop_stiffness"], span)]
+    stop = [NewParam(names[mine], x_end.start, x_end.bounds, x_end.plausible, x_end.probe, scale=span,
+                     reach=x_end.reach),
+            stop_stiffness(ctx, act, names["stop_stiffness"], span)]
     far = hi + 2.0 * span if other == "stop_max" else lo - 2.0 * span
     fixed = {names[other]: far}
     if names["stop_damping"]:
         fixed[names["stop_damping"]] = stop_damping(ctx, act)
-    return fixed
+    return stop, fixed
