@@ -111,3 +111,45 @@ def test_an_effect_without_which_the_model_cannot_simulate_is_kept(monkeypatch):
     assert backward.without(SimpleNamespace(train=[]), "net", stage, keep, engine.Settings(), said.append,
                             "a mount beside a delay") is None
     assert any("cannot simulate" in s for s in said)
+
+
+def test_a_later_effect_hung_on_the_earlier_ones_frame_is_offered_again_without_it(tmp_path, monkeypatch):
+    """A rod seal offered after a compliant mount acts between the rod and the mount's frame;
+    the luffing cylinder without the mount has no such node, so that candidate cannot be built
+    there and the mount could never be tested. ``without`` adds the candidate the catalogue
+    offers under the same key on the machine without the mount: the seal then acts between the
+    rod and the cylinder's own reference, with the same parameter names (the fit starts from
+    their fitted values)."""
+    from pathlib import Path
+
+    from hydrocli.diagnose import augment
+    from hydrocli.diagnose.candidates import Context, catalogue
+    from hydrocli.diagnose.measurement import with_pressure_sensors
+    from hydrocli.errors import HydroError
+    from hydrocli.model.builder import build_model
+    from hydrocli.netlist.loader import load_netlist
+
+    monkeypatch.setenv("HYDRO_CACHE_DIR", str(tmp_path))
+    outs = {"P1": "pressure", "P2": "pressure", "x": "position", "v": "velocity"}
+
+    def ctx_of(net):
+        return Context(net, set(build_model(net).free_params), {"rod": (0.0, 0.3)}, outs)
+
+    def offered(net):
+        return {c.key: c for c in catalogue(ctx_of(net))[0]}
+
+    base, _ = with_pressure_sensors(load_netlist(Path(__file__).parents[2] / "machines" / "luffing_cylinder.yaml"))
+    mount = offered(base)["structural_flexibility@cylinder"]
+    mounted = augment.reload(base, augment.text_of(mount.build(base)))
+    seal = offered(mounted)["pressure_dependent_friction@friction#rod"]
+    (name,) = {p.name.rpartition(".")[0] for p in seal.params}
+    frame = augment.reload(mounted, augment.text_of(seal.build(mounted))).components[name].ports["b"]
+    assert frame not in base.nodes()                  # the mount's frame: gone with the mount
+    with pytest.raises(HydroError):                   # the stale build does not stand on the base
+        build_model(augment.reload(base, augment.text_of(seal.build(base))))
+    monkeypatch.setattr(backward, "context_of", lambda su, net, free, model: ctx_of(net))
+    net = backward._built_on(None, base, seal)
+    model = build_model(net)
+    assert {p.name for p in seal.params} <= set(model.free_params)
+    assert net.components[name].ports["b"] in base.nodes()
+    assert net.components[name].ports["a"] == "rod"
