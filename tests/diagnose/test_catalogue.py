@@ -345,6 +345,13 @@ def test_a_single_rod_cylinder_is_offered_its_rod_seal_loaded_by_the_rod_side(tm
     assert band.name.endswith(".eps") and band.start == band.ref and band.bounds[0] < band.start < band.bounds[1]
     area = aug.p0[aug.param_index(p.name.rsplit(".", 1)[0] + ".A_p")]
     assert area == pytest.approx(5.0265e-3, rel=1e-3)
+    # the friction element's own seal law (the chamber pressures' sum) frees the band its seals
+    # reverse over too, the element's ε, from its value in the file (1e-4 m/s) up to 100× it
+    for file, eps in (("luffing_cylinder.yaml", 1e-4), ("eha_testbench.yaml", None)):
+        (band,) = (q for q in found[file][""].params if not q.primary)
+        assert band.name == "friction.eps" and band.log
+        if eps is not None:
+            assert band.start == pytest.approx(eps) and band.bounds == pytest.approx((0.5 * eps, 100 * eps))
 
 
 def test_a_motors_air_is_one_fraction_in_its_chambers_or_volumes_where_it_has_none(tmp_path, monkeypatch):

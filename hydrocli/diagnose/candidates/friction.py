@@ -80,8 +80,10 @@ class FrictionFamily(Family):
         mu = fr.param("pressure")
         if mu is not None and fr.role.port("pressure_a"):
             connect = {fr.role.port("pressure_a"): act.node("chamber_a"), fr.role.port("pressure_b"): act.node("chamber_b")}
+            # the seals' reversal band is the contact's, as for the seal element's laws (_seal)
             out.append(self.parameter_candidate(
-                ctx, "pressure_dependent_friction", fr.name, [NewParam(mu, 1e-4, (0.0, 0.2), (2e-3, 0.2), 0.02)],
+                ctx, "pressure_dependent_friction", fr.name,
+                [NewParam(mu, 1e-4, (0.0, 0.2), (2e-3, 0.2), 0.02)] + _band(ctx, fr),
                 "force", "seal friction growing with chamber pressure, μ_p·A·(p_A + p_B)·sign(v)",
                 fixed={fr.param("pressure_size"): area}, connect=connect))
         out.extend(_seal(ctx, fr.name, act, area, _file_value(ctx, fr, fr.param("band"))))
