@@ -35,7 +35,7 @@ from .candidates import COMPLIANCES, SWITCHING, Candidate, catalogue
 from .equations import located_equations
 from .measurement import with_pressure_sensors
 from .ranking import ALTERNATIVE
-from .shortlist import after_wave, shortlist
+from .shortlist import after_wave, creeping, shortlist
 from .stage import (Baseline, Diagnosis, Round, Settings, Setup, Stage, context, context_of, fit_status, fmt_esr,
                     log, make_stage, stops_of)
 
@@ -195,8 +195,9 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         stage.esr_validation) else stage
     remaining = [c for c in order if scores[c.key]["error"] is None]
     fits, base_ref, grad, passing, judged, imprecise, bounded, small = {}, {}, {}, [], {}, [], [], []
+    frictions, crept = [], False
     for wave in range(1 + EXTRA_WAVES):
-        best = shortlist(remaining, scores, n_fit, readings)
+        best = frictions or shortlist(remaining, scores, n_fit, readings)
         if not best:
             break
         log(progress, ("  best: " if wave == 0 else "  next: ")
@@ -252,6 +253,12 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         # four effects a fit could not use; with a residual that slow, n_eff 24, no score test
         # is significant, so the order alone decides)
         remaining = after_wave(remaining, set(fits))
+        stand_ins, frictions = creeping(best, fits, judged, remaining) if not crept else ([], [])
+        if frictions:    # once a round: an overdamped compliance stands for a force following the speed
+            crept = True
+            log(progress, "  " + ", ".join(f"{c.effect}'s mode is overdamped (ζ = {z:.3g})" for c, z in stand_ins)
+                + ": it rings at no frequency and may stand for friction that follows the speed; fitting those too")
+            continue
         if passing or findings.unexplained(stage.esr_validation, su.noise, located) is None:
             break
     v_base = min([v for _, v in base_ref.values()] + [residuals.total(stage.esr_validation)])

@@ -31,6 +31,7 @@ COMPLIANCES = frozenset().union(*(f.compliances for f in FAMILIES))   # effects 
 LAGS = frozenset().union(*(f.lags for f in FAMILIES))                 # effects that retard the response
 BANDS = frozenset().union(*(f.bands for f in FAMILIES))               # dead bands of one element
 LAWS = frozenset().union(*(f.laws for f in FAMILIES))                 # effects offered in several laws
+FRICTIONS = frozenset().union(*(f.frictions for f in FAMILIES))       # forces following a contact's speed
 REDUCES_TO = frozenset().union(*(f.reduces_to for f in FAMILIES))     # (richer law, its special case)
 
 
@@ -45,4 +46,4 @@ def catalogue(ctx: Context) -> tuple[list[Candidate], list[Skipped]]:
     return cands, skipped
 
 
-__all__ = ["VOCABULARY", "Candidate", "Context", "NewParam", "Skipped", "catalogue", "FAMILIES", "SWITCHING", "COMPLIANCES", "LAGS", "BANDS", "LAWS", "REDUCES_TO"]
+__all__ = ["VOCABULARY", "Candidate", "Context", "NewParam", "Skipped", "catalogue", "FAMILIES", "SWITCHING", "COMPLIANCES", "LAGS", "BANDS", "LAWS", "FRICTIONS", "REDUCES_TO"]

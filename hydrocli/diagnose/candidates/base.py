@@ -84,10 +84,25 @@ class Candidate:
     # plausibility of what the parameters make together (a payload's swing frequency √(k/J)):
     # each check maps the fitted {name: value} to why they are implausible, or None
     checks: tuple[Callable[[dict[str, float]], str | None], ...] = ()
+    # the one mode a compliance adds, as the names of its (stiffness, damping, mass): its damping
+    # ratio tells a mode from a creep (:meth:`damping_ratio`)
+    mode: tuple[str, str, str] | None = None
 
     @property
     def key(self) -> str:
         return f"{self.effect}@{self.component}" + (f"#{self.variant}" if self.variant else "")
+
+    def damping_ratio(self, est: dict[str, float]) -> float | None:
+        """ζ = c / (2·√(k·m)) of the mode (:attr:`mode`) at the fitted values ``est``, or None
+        when the candidate declares none or a value is missing or not positive. With the mass
+        ahead of the spring alone (a rod–load link's rod side, not the reduced mass with the
+        load) the ratio is a lower bound."""
+        if self.mode is None:
+            return None
+        k, c, m = (est.get(n) for n in self.mode)
+        if not all(v is not None and v > 0 for v in (k, c, m)):
+            return None
+        return float(c / (2.0 * (k * m) ** 0.5))
 
 
 @dataclass
@@ -238,6 +253,10 @@ class Family:
                                                 # (a leak: laminar or orifice): once the effect is
                                                 # shortlisted every significant law is fitted, not
                                                 # only the best-screening one (engine.shortlist)
+    frictions: frozenset[str] = frozenset()     # effects that add a force following the speed of a
+                                                # sliding contact (viscous, dry with its reversal band,
+                                                # a breakaway, a seal): what an OVERDAMPED compliance
+                                                # stands for, fitted next to it (engine.round_step)
     reduces_to: tuple[tuple[str, str], ...] = ()  # (richer, simpler): the richer law becomes the
                                                 # simpler one where the data do not exercise what it
                                                 # adds; when the data do not tell them apart the

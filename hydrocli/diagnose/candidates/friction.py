@@ -32,6 +32,7 @@ _FORMS = {
 class FrictionFamily(Family):
     effects = ("viscous_friction", "coulomb_friction", "stribeck_friction", "pressure_dependent_friction")
     switching = frozenset({"coulomb_friction", "stribeck_friction", "pressure_dependent_friction"})
+    frictions = frozenset(effects)
     # a seal force μ·A·(p_A + p_B) is a constant force wherever the pressure sum is (a symmetric
     # actuator on a constant supply: p_A + p_B ≈ p_S), and a breakaway excess k_s·e^(−|v|/v_s)
     # is one for v_s above the speeds recorded: each is Coulomb friction with one more

@@ -107,7 +107,8 @@ class MechanicsFamily(Family):
             return A.free_new(net, params)
         return Candidate("load_compliance", act.name, params,
                          build, "force", f"elastic coupling between the moving part of '{act.name}' and its load, "
-                                         "with the joint's dry friction (motion measured on the load side)")
+                                         "with the joint's dry friction (motion measured on the load side)",
+                         mode=(params[0].name, params[1].name, params[2].name))
 
     @staticmethod
     def _structure(ctx: Context, act: Part, body: str | None, dom: Domain, m: float):
@@ -165,7 +166,8 @@ class MechanicsFamily(Family):
             return A.free_new(net, params)
         return Candidate("structural_flexibility", act.name, params,
                          build, "force", f"compliant mounting of the body of '{act.name}' (motion measured by "
-                                         "the actuator's own transducer, relative to the body)")
+                                         "the actuator's own transducer, relative to the body)",
+                         mode=(params[0].name, params[2].name, params[1].name))
 
 
 def dry_joint(ctx: Context, act: Part, dom: Domain, stem: str):
