@@ -257,7 +257,8 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         if frictions:    # once a round: an overdamped compliance stands for a force following the speed
             crept = True
             log(progress, "  " + ", ".join(f"{c.effect}'s mode is overdamped (ζ = {z:.3g})" for c, z in stand_ins)
-                + ": it rings at no frequency and may stand for friction that follows the speed; fitting those too")
+                + ": a mode damped that much rings at no frequency and may stand for friction that follows the speed; "
+                  "fitting the friction laws too")
             continue
         if passing or findings.unexplained(stage.esr_validation, su.noise, located) is None:
             break
