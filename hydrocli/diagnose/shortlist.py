@@ -24,7 +24,7 @@ RIVAL_SHARE = 1 / 3  # … and explains at least a third of what the top candida
 GROUPS = (COMPLIANCES, LAGS, BANDS)
 # a compliance whose fitted mode is damped beyond this ratio rings at no frequency: what it adds
 # is a force that follows the speed (the true mounts of the dev family fitted at ζ 0.08–0.78;
-# mounts standing in for seals that reverse over a 2 mm/s band, at 22–23)
+# mounts and rod–load links standing in for seals that reverse over a 2 mm/s band, at 3.4–23)
 OVERDAMPED = 2.0
 
 
