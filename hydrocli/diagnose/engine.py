@@ -196,7 +196,9 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     remaining = [c for c in order if scores[c.key]["error"] is None]
     fits, base_ref, grad, passing, judged, imprecise, bounded, small = {}, {}, {}, [], {}, [], [], []
     frictions, crept = [], False
-    for wave in range(1 + EXTRA_WAVES):
+    for wave in range(2 + EXTRA_WAVES):   # the shortlist's waves, and once a round the frictions' (creeping)
+        if wave > EXTRA_WAVES and not frictions:
+            break
         best = frictions or shortlist(remaining, scores, n_fit, readings)
         if not best:
             break
