@@ -195,7 +195,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         stage.esr_validation) else stage
     remaining = [c for c in order if scores[c.key]["error"] is None]
     fits, base_ref, grad, passing, judged, imprecise, bounded, small = {}, {}, {}, [], {}, [], [], []
-    frictions, crept = [], False
+    frictions = []
     for wave in range(2 + EXTRA_WAVES):   # the shortlist's waves, and once a round the frictions' (creeping)
         if wave > EXTRA_WAVES and not frictions:
             break
@@ -255,9 +255,10 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         # four effects a fit could not use; with a residual that slow, n_eff 24, no score test
         # is significant, so the order alone decides)
         remaining = after_wave(remaining, set(fits))
-        stand_ins, frictions = creeping(best, fits, judged, remaining) if not crept else ([], [])
-        if frictions:    # once a round: an overdamped compliance stands for a force following the speed
-            crept = True
+        # an overdamped compliance stands for a force following the speed: once a round, since
+        # that wave fits every friction left in ``remaining`` and after_wave then drops them all
+        stand_ins, frictions = creeping(best, fits, judged, remaining)
+        if frictions:
             log(progress, "  " + ", ".join(f"{c.effect}'s mode is overdamped (ζ = {z:.3g})" for c, z in stand_ins)
                 + ": a mode damped that much rings at no frequency and may stand for friction that follows the speed; "
                   "fitting the friction laws too")

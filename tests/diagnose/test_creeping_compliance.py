@@ -145,6 +145,6 @@ def test_a_round_fits_the_frictions_an_overdamped_mount_stands_for_and_names_the
                                 esr_validation={"P1": 2.35}, esr_train={"P1": 0.3}, Y_train=[], free=[])
         said = []
         rnd = engine.round_step(su, stage, [], 0, Settings(top=2), None, {}, progress=said.append)
-        assert set(asked) == fitted, (zeta, extra)
+        assert set(asked) == fitted and len(asked) == len(set(asked)), (zeta, extra, asked)
         assert rnd.accepted["effect"] == named, (zeta, extra, said)
         assert any("overdamped (ζ = 23)" in s for s in said) == (zeta > OVERDAMPED)
