@@ -15,6 +15,7 @@ pipeline of small typed steps:
 """
 from __future__ import annotations
 
+import itertools
 import time
 from contextlib import nullcontext
 from dataclasses import replace
@@ -35,7 +36,7 @@ from .candidates import COMPLIANCES, SWITCHING, Candidate, catalogue
 from .equations import located_equations
 from .measurement import with_pressure_sensors
 from .ranking import ALTERNATIVE
-from .shortlist import after_wave, creeping, shortlist
+from .shortlist import ENDS, after_wave, at_the_ends, creeping, shortlist
 from .stage import (Baseline, Diagnosis, Round, Settings, Setup, Stage, context, context_of, fit_status, fmt_esr,
                     log, make_stage, stops_of)
 
@@ -195,11 +196,11 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         stage.esr_validation) else stage
     remaining = [c for c in order if scores[c.key]["error"] is None]
     fits, base_ref, grad, passing, judged, imprecise, bounded, small = {}, {}, {}, [], {}, [], [], []
-    frictions = []
-    for wave in range(2 + EXTRA_WAVES):   # the shortlist's waves, and once a round the frictions' (creeping)
-        if wave > EXTRA_WAVES and not frictions:
+    extra = []    # a wave a mechanism asks for: the frictions (creeping), the stops (at_the_ends)
+    for wave in itertools.count():   # the shortlist's waves, and those the mechanisms ask for, once each
+        if wave > EXTRA_WAVES and not extra:
             break
-        best = frictions or shortlist(remaining, scores, n_fit, readings)
+        best = extra or shortlist(remaining, scores, n_fit, readings)
         if not best:
             break
         log(progress, ("  best: " if wave == 0 else "  next: ")
@@ -257,14 +258,21 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         remaining = after_wave(remaining, set(fits))
         # an overdamped compliance stands for a force following the speed: once a round, since
         # that wave fits every friction left in ``remaining`` and after_wave then drops them all
-        stand_ins, frictions = creeping(best, fits, judged, remaining)
-        if frictions:
+        stand_ins, extra = creeping(best, fits, judged, remaining)
+        if extra:
             log(progress, "  " + ", ".join(f"{c.effect}'s mode is overdamped (ζ = {z:.3g})" for c, z in stand_ins)
                 + ": a mode damped that much rings at no frequency and may stand for friction that follows the speed; "
                   "fitting the friction laws too")
             continue
-        if passing or findings.unexplained(stage.esr_validation, su.noise, located) is None:
+        mismatch = None if passing else findings.unexplained(stage.esr_validation, su.noise, located)
+        if mismatch is None:
             break
+        # the shortlist's waves done and still unexplained: where the error lies says what to fit
+        # next — the stops, when it concentrates at the ends of the stroke (once: they are fitted)
+        extra = at_the_ends(mismatch, remaining) if wave >= EXTRA_WAVES else []
+        if extra:
+            log(progress, f"  the unexplained error concentrates at the {ENDS}, where only a stop acts: fitting "
+                          + ", ".join(c.key for c in extra))
     v_base = min([v for _, v in base_ref.values()] + [residuals.total(stage.esr_validation)])
     for c in order:   # the fitted ones were judged in their wave; the rest carry their screening
         if c.key not in judged:
