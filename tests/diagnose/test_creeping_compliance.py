@@ -7,18 +7,16 @@ friction law before naming it (dev lift_cbv, seals pressed by both chambers reve
 from __future__ import annotations
 
 from pathlib import Path
-from types import SimpleNamespace
-
 import numpy as np
 import pytest
 
 from hydrocli.components import registry
 from hydrocli.components import roles as R
-from hydrocli.diagnose import augment, candidate_fits, engine, residuals
+from hydrocli.diagnose import engine
 from hydrocli.diagnose.candidates import COMPLIANCES, FAMILIES, FRICTIONS, Candidate, Context, NewParam, catalogue
 from hydrocli.diagnose.shortlist import OVERDAMPED, creeping
-from hydrocli.diagnose.stage import Settings
 from hydrocli.netlist.loader import load_netlist
+from scripted_round import fitted, run_round
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -79,19 +77,12 @@ def _cands():
     return mount, seal, rod, lag
 
 
-def _fit(c, values, cost, val):
-    names = [p.name for p in c.params]
-    return {"key": c.key, "error": None, "names": names, "estimates": [values[n] for n in names],
-            "stderr": [1e-3 * abs(values[n]) for n in names], "correlation": None, "cost": cost,
-            "esr_validation": {"P1": val}, "esr_train": {"P1": val}}
-
-
 @pytest.mark.parametrize("zeta,row,expect", [(23.0, {"passed": True}, True), (23.0, {"bounded": True}, True),
                                              (0.5, {"passed": True}, False), (23.0, {"passed": False}, False)])
 def test_an_overdamped_compliance_that_could_be_named_brings_every_friction_law(zeta, row, expect):
     mount, seal, rod, lag = _cands()
     k, m = 1.0e6, 13.0
-    fits = {mount.key: _fit(mount, {"mount.k": k, "damper.c": 2 * zeta * np.sqrt(k * m), "frame.m": m}, 1.0, 1.0)}
+    fits = {mount.key: fitted(mount, {"mount.k": k, "damper.c": 2 * zeta * np.sqrt(k * m), "frame.m": m}, 1.0, 1.0)}
     stand_ins, frictions = creeping([mount, lag], fits, {mount.key: row}, [rod, lag, seal])
     assert [(c.key, round(z, 6)) for c, z in stand_ins] == ([(mount.key, zeta)] if expect else [])
     assert [c.key for c in frictions] == ([rod.key, seal.key] if expect else [])
@@ -105,46 +96,19 @@ def test_a_round_fits_the_frictions_an_overdamped_mount_stands_for_and_names_the
     fitted and the mount is named."""
     mount, seal, rod, lag = _cands()
     cands = [mount, seal, rod, lag]
-    monkeypatch.setattr(engine, "catalogue", lambda *a, **k: (cands, []))
-    monkeypatch.setattr(engine, "context", lambda *a, **k: None)
-    monkeypatch.setattr(engine, "_drawing", lambda su: {})
-    monkeypatch.setattr(augment, "text_of", lambda net: "")
-    monkeypatch.setattr(residuals, "effective_n", lambda *a: 2.0e4)
     scores = {mount.key: 0.105, lag.key: 0.074, rod.key: 0.035, seal.key: 0.020}
-    monkeypatch.setattr(engine, "_screen", lambda stage, cs, *a: {
-        c.key: {"key": c.key, "dr2": scores[c.key], "p_value": 1e-20, "error": None, "t": [], "starts": [],
-                "transfers": []} for c in cs})
     k, m = 1.0e6, 13.0
     cases = ((23.0, "pressure_dependent_friction", {mount.key, lag.key, rod.key, seal.key}, 2),
              (0.3, "structural_flexibility", {mount.key, lag.key}, 2),
              # the frictions' wave is one more, not one of the shortlist's: it runs after the last
              (23.0, "pressure_dependent_friction", {mount.key, lag.key, rod.key, seal.key}, 0))
-    for zeta, named, fitted, extra in cases:
+    for zeta, named, fitted_, extra in cases:
         monkeypatch.setattr(engine, "EXTRA_WAVES", extra)
         values = {"mount.k": k, "damper.c": 2 * zeta * np.sqrt(k * m), "frame.m": m, "friction.mu_p": 0.034,
                   "seal.mu_b": 0.05, "sensor.tau": 1e-3}
         result = {mount.key: (0.90, 1.56), lag.key: (0.98, 1.9), rod.key: (0.93, 1.2), seal.key: (0.53, 0.8)}
-        asked = []
-
-        def fit_all(jobs, pool=None, progress=None, what=""):
-            out = []
-            for j in jobs:
-                if j["key"].startswith(engine.CONTROL):
-                    out.append({"key": j["key"], "error": None, "cost": 1.0, "esr_validation": {"P1": 2.35}})
-                    continue
-                asked.append(j["key"])
-                c = next(c for c in cands if c.key == j["key"])
-                out.append(_fit(c, values, *result[c.key]))
-            return out
-        monkeypatch.setattr(candidate_fits, "fit_all", fit_all)
-        monkeypatch.setattr(engine, "_polish", lambda su, stage, c, text, f, *a: (
-            SimpleNamespace(esr_train=f["esr_train"], esr_validation=f["esr_validation"]), f))
-        su = SimpleNamespace(train=[], validate=[], outputs=["P1"], noise_total=0.08, noise={"P1": 0.08},
-                             machine="m.yaml", model=None)
-        stage = SimpleNamespace(net=None, model=SimpleNamespace(param_names=[]), p=np.zeros(0), cost=1.0,
-                                esr_validation={"P1": 2.35}, esr_train={"P1": 0.3}, Y_train=[], free=[])
-        said = []
-        rnd = engine.round_step(su, stage, [], 0, Settings(top=2), None, {}, progress=said.append)
-        assert set(asked) == fitted and len(asked) == len(set(asked)), (zeta, extra, asked)
+        rnd, asked, said = run_round(monkeypatch, cands, scores, lambda c: fitted(c, values, *result[c.key]),
+                                     base_val=2.35, top=2)
+        assert set(asked) == fitted_ and len(asked) == len(set(asked)), (zeta, extra, asked)
         assert rnd.accepted["effect"] == named, (zeta, extra, said)
         assert any("overdamped (ζ = 23)" in s for s in said) == (zeta > OVERDAMPED)

@@ -6,15 +6,12 @@ pressed 1.5 mm, effect ESR 28 %: the stop screened 0.2 %, was never fitted, and 
 an unexplained mismatch "at the end of stroke")."""
 from __future__ import annotations
 
-from types import SimpleNamespace
-
-import numpy as np
 import pytest
 
-from hydrocli.diagnose import augment, candidate_fits, engine, findings, residuals
+from hydrocli.diagnose import engine, findings
 from hydrocli.diagnose.candidates import Candidate, NewParam
 from hydrocli.diagnose.shortlist import ENDS, at_the_ends
-from hydrocli.diagnose.stage import Settings
+from scripted_round import fitted, run_round
 
 
 def _p(name, primary=True, **kw):
@@ -63,52 +60,18 @@ def test_a_round_fits_the_stops_when_the_unexplained_error_lies_at_the_ends_and_
     leak, lag, comp, stop, cushion = _cands()
     fillers = _fillers()
     cands = [leak, lag, comp, stop, cushion] + fillers
-    monkeypatch.setattr(engine, "catalogue", lambda *a, **k: (cands, []))
-    monkeypatch.setattr(engine, "context", lambda *a, **k: None)
-    monkeypatch.setattr(engine, "_drawing", lambda su: {})
-    monkeypatch.setattr(augment, "text_of", lambda net: "")
-    monkeypatch.setattr(residuals, "effective_n", lambda *a: 2.0e4)
     scores = {leak.key: 0.10, lag.key: 0.036, comp.key: 0.017, cushion.key: 0.003, stop.key: 0.002,
               **{f.key: 0.012 - 0.002 * i for i, f in enumerate(fillers)}}
-    monkeypatch.setattr(engine, "_screen", lambda stage, cs, *a: {
-        c.key: {"key": c.key, "dr2": scores[c.key], "p_value": 1e-20 if scores[c.key] > 0.005 else 0.5, "error": None,
-                "t": [], "starts": [],
-                "transfers": []} for c in cs})
     values = {"leak.G": 1e-12, "sensor.tau": 1e-3, "link.k": 1e7, "link.c": 1e3, "cyl.x_max": 0.13,
               "cyl.k_stop": 3e10, "cushion.x_end": 0.129, "cushion.needle": 1e-8, **{f"{f.effect}.a": 1.0 for f in fillers}}
     # (training cost, summed validation ESR): the base stands at 1.0 and 46.2 %
     result = {leak.key: (0.98, 45.0), lag.key: (0.99, 47.0), comp.key: (0.995, 45.5), cushion.key: (0.97, 44.0),
               stop.key: (0.30, 2.4), **{f.key: (0.99, 46.0) for f in fillers}}
-
-    def fit(c):
-        names = [p.name for p in c.params]
-        cost, val = result[c.key]
-        return {"key": c.key, "error": None, "names": names, "estimates": [values[n] for n in names],
-                "stderr": [1e-3 * abs(values[n]) for n in names], "correlation": None, "cost": cost,
-                "esr_validation": {"P1": val}, "esr_train": {"P1": val}}
-
     for regime, extra_waves, named in ((ENDS, 2, "end_stop"), ("moving +", 2, None), (ENDS, 0, "end_stop")):
         monkeypatch.setattr(engine, "EXTRA_WAVES", extra_waves)
-        asked = []
-
-        def fit_all(jobs, pool=None, progress=None, what=""):
-            out = []
-            for j in jobs:
-                if j["key"].startswith(engine.CONTROL):
-                    out.append({"key": j["key"], "error": None, "cost": 1.0, "esr_validation": {"P1": 46.2}})
-                    continue
-                asked.append(j["key"])
-                out.append(fit(next(c for c in cands if c.key == j["key"])))
-            return out
-        monkeypatch.setattr(candidate_fits, "fit_all", fit_all)
-        monkeypatch.setattr(engine, "_polish", lambda su, stage, c, text, f, *a: (
-            SimpleNamespace(esr_train=f["esr_train"], esr_validation=f["esr_validation"]), f))
-        su = SimpleNamespace(train=[], validate=[], outputs=["P1"], noise_total=0.08, noise={"P1": 0.08},
-                             machine="m.yaml", model=None)
-        stage = SimpleNamespace(net=None, model=SimpleNamespace(param_names=[]), p=np.zeros(0), cost=1.0,
-                                esr_validation={"P1": 46.2}, esr_train={"P1": 9.0}, Y_train=[], free=[])
-        said = []
-        rnd = engine.round_step(su, stage, [], 0, Settings(top=1), None, _located(regime, 1.55), progress=said.append)
+        rnd, asked, said = run_round(monkeypatch, cands, scores, lambda c: fitted(c, values, *result[c.key]),
+                                     base_val=46.2, located=_located(regime, 1.55),
+                                     p_value=lambda score: 1e-20 if score > 0.005 else 0.5)
         assert len(asked) == len(set(asked)), asked                 # nothing is fitted twice
         stops = {stop.key, cushion.key}
         assert (stops <= set(asked)) == (named is not None), (regime, extra_waves, asked)
