@@ -28,6 +28,7 @@ REGIME_SPEED = 0.05      # low speed: |v| below 5 % of its 99th percentile
 REGIME_COMMAND = 0.05    # small command: |u| below 5 % of its 99th percentile
 AFTER_STOP_S = 0.3
 REVERSAL_GAP_S = 0.5     # direction reversal: opposite motions less than this apart
+END_OF_STROKE = "end of stroke"   # the regime of the outer 10 % of the travelled range
 
 
 POSITIONS = ("position", "angle")             # quantities that say where an actuator is …
@@ -66,7 +67,7 @@ def regimes(model: Model, exp, kinds: dict[str, str]) -> dict[str, np.ndarray]:
     if pos is not None:
         lo, hi = np.percentile(pos, [1, 99])
         span = hi - lo
-        out["end of stroke"] = (pos < lo + 0.1 * span) | (pos > hi - 0.1 * span)
+        out[END_OF_STROKE] = (pos < lo + 0.1 * span) | (pos > hi - 0.1 * span)
     cmd_cols = [j for j, name in enumerate(model.input_names) if model.input_units.get(name, "") in ("%", "1", "")]
     for j in cmd_cols[:1]:
         u = exp.inputs.U[:, j]

@@ -7,6 +7,7 @@ explains lies at the ends of the stroke (:func:`at_the_ends`)."""
 from __future__ import annotations
 
 from .candidates import BANDS, COMPLIANCES, FRICTIONS, LAGS, LAWS, Candidate
+from .locate import END_OF_STROKE
 
 RIVAL_P = 1e-3      # a balance whose best candidate's score test is significant at this level …
 RIVAL_SHARE = 1 / 3  # … and explains at least a third of what the top candidate explains is fitted too
@@ -27,7 +28,7 @@ GROUPS = (COMPLIANCES, LAGS, BANDS)
 # is a force that follows the speed (the true mounts of the dev family fitted at ζ 0.08–0.78;
 # mounts and rod–load links standing in for seals that reverse over a 2 mm/s band, at 3.4–23)
 OVERDAMPED = 2.0
-ENDS = "end of stroke"   # the regime (locate.regimes) where a stop's force acts and nowhere else
+ENDS = END_OF_STROKE     # the regime (locate.regimes) where a stop's force acts and nowhere else
 
 
 def shortlist(order: list[Candidate], scores: dict, n_fit: int, readings: frozenset = frozenset()) -> list[Candidate]:
@@ -122,12 +123,12 @@ def creeping(best: list[Candidate], fits: dict, judged: dict, remaining: list[Ca
 
 
 def at_the_ends(mismatch: dict | None, remaining: list[Candidate]) -> list[Candidate]:
-    """The stops and cushions still in ``remaining`` (candidates with a position at an end of
-    the travel: ``NewParam.seen``) when the unexplained mismatch (``findings.unexplained``: the
-    verdict the round would otherwise end on) lists the ends of the stroke among the regimes
-    where the error concentrates; else none. (A stop's or cushion's position carries the
-    travel it is judged against: ``NewParam.seen``, ``NewParam.reach``.) A stop acts at the ends and nowhere else, which is
-    where the engineer looks next; its score test cannot say so: the base fit bends itself
+    """The stops and cushions still in ``remaining`` (candidates with a position on the travel,
+    which carries the travel it is judged against: ``NewParam.seen``, ``NewParam.reach``) when
+    the unexplained mismatch (``findings.unexplained``: the verdict the round would otherwise
+    end on) lists the ends of the stroke among the regimes where the error concentrates; else
+    none. A stop acts at the ends and nowhere else, which is where the engineer looks next;
+    its score test cannot say so: the base fit bends itself
     (its friction, its stiffness) to keep the replayed piston inside the recorded travel, so
     a stop probed just beyond the recorded end is barely touched by the base trajectory (dev
     EHA, a rubber bumper pressed 1.5 mm at the head, effect ESR 28 %: the stop screened 0.2 %
