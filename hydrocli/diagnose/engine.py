@@ -36,7 +36,7 @@ from .candidates import COMPLIANCES, SWITCHING, Candidate, catalogue
 from .equations import located_equations
 from .measurement import with_pressure_sensors
 from .ranking import ALTERNATIVE
-from .shortlist import ENDS, after_wave, at_the_ends, creeping, shortlist
+from .shortlist import after_wave, at_the_ends, creeping, shortlist
 from .stage import (Baseline, Diagnosis, Round, Settings, Setup, Stage, context, context_of, fit_status, fmt_esr,
                     log, make_stage, stops_of)
 
@@ -271,7 +271,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
         # next — the stops, when it concentrates at the ends of the stroke (once: they are fitted)
         extra = at_the_ends(mismatch, remaining) if wave >= EXTRA_WAVES else []
         if extra:
-            log(progress, f"  the unexplained error concentrates at the {ENDS}, where only a stop acts: fitting "
+            log(progress, f"  the unexplained error concentrates at the {locate.END_OF_STROKE}, where only a stop acts: fitting "
                           + ", ".join(c.key for c in extra))
     v_base = min([v for _, v in base_ref.values()] + [residuals.total(stage.esr_validation)])
     for c in order:   # the fitted ones were judged in their wave; the rest carry their screening

@@ -28,7 +28,6 @@ GROUPS = (COMPLIANCES, LAGS, BANDS)
 # is a force that follows the speed (the true mounts of the dev family fitted at ζ 0.08–0.78;
 # mounts and rod–load links standing in for seals that reverse over a 2 mm/s band, at 3.4–23)
 OVERDAMPED = 2.0
-ENDS = END_OF_STROKE     # the regime (locate.regimes) where a stop's force acts and nowhere else
 
 
 def shortlist(order: list[Candidate], scores: dict, n_fit: int, readings: frozenset = frozenset()) -> list[Candidate]:
@@ -128,12 +127,12 @@ def at_the_ends(mismatch: dict | None, remaining: list[Candidate]) -> list[Candi
     the unexplained mismatch (``findings.unexplained``: the verdict the round would otherwise
     end on) lists the ends of the stroke among the regimes where the error concentrates; else
     none. A stop acts at the ends and nowhere else, which is where the engineer looks next;
-    its score test cannot say so: the base fit bends itself
-    (its friction, its stiffness) to keep the replayed piston inside the recorded travel, so
-    a stop probed just beyond the recorded end is barely touched by the base trajectory (dev
+    its score test cannot say so: the base fit bends itself (its friction, its stiffness) to
+    keep the replayed piston inside the recorded travel, so a stop probed just beyond the
+    recorded end is barely touched by the base trajectory (dev
     EHA, a rubber bumper pressed 1.5 mm at the head, effect ESR 28 %: the stop screened 0.2 %
     beside a leak's 10 %, was never fitted and the answer was an unexplained mismatch "at the
     end of stroke"; fitted, it took the held-out P2 from 23.2 to 0.99 %)."""
-    if mismatch is None or not any(r.get("regime") == ENDS for r in mismatch.get("regimes", [])):
+    if mismatch is None or not any(r.get("regime") == END_OF_STROKE for r in mismatch.get("regimes", [])):
         return []
     return [c for c in remaining if any(p.seen or p.reach for p in c.params)]

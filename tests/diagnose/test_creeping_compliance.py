@@ -7,6 +7,7 @@ friction law before naming it (dev lift_cbv, seals pressed by both chambers reve
 from __future__ import annotations
 
 from pathlib import Path
+
 import numpy as np
 import pytest
 

@@ -10,7 +10,8 @@ import pytest
 
 from hydrocli.diagnose import engine, findings
 from hydrocli.diagnose.candidates import Candidate, NewParam
-from hydrocli.diagnose.shortlist import ENDS, at_the_ends
+from hydrocli.diagnose.locate import END_OF_STROKE as ENDS
+from hydrocli.diagnose.shortlist import at_the_ends
 from scripted_round import fitted, run_round
 
 
