@@ -7,13 +7,17 @@ ratio (1 + (value - 1) s). An empty ``scale`` means the size is not calibrated (
 the size is set by how often the setpoints reach the stop). ``LIMITS`` clips parameters that
 have a physical ceiling. Machines without an entry for a form do not carry it. The third forms
 (``THIRD``, classes in truth/third_forms.py; ``THIRD_FORMS``: form -> effect) follow each
-effect's first two and are generated only when named (``--forms``).
+effect's first two and are generated only when named (``--forms``); so are the fourth forms
+(``FOURTH``, truth/fourth_forms.py; ``FOURTH_FORMS``), appended after the third.
 """
 from __future__ import annotations
+
+import math
 
 from experiments.concealed.truth import effects as C
 
 from .truth import forms as F
+from .truth import fourth_forms as QF
 from .truth import third_forms as TF
 from .truth import winch as WN
 
@@ -261,9 +265,92 @@ for _e, _forms in THIRD.items():
     FORMS[_e].update(_forms)
 THIRD_FORMS = {f: e for e, fs in THIRD.items() for f in fs}
 
+# fourth forms (session 54, truth/fourth_forms.py): physically different again from every form
+# above, the winch included where the physics fits; appended after the third, generated only
+# when --forms names them (generate.all_cases), like the third
+_LIFT_W = 1500.0 * 9.81            # the lift's static load [N] (its mount's knee)
+_WINCH_W = 400.0 * 9.81 * 0.15     # the winch's static load torque [N m]
+FOURTH = {
+    # the cracking pressures sit near the median chamber pressure of each bench's recordings
+    "external_leakage": {
+        "cracking_drain": (QF.CrackingDrainLeakage,
+                           _per({"K_r": 3.3e-15, "P_cr": 8.5e6}, {"K_r": 2.8e-16, "P_cr": 5.4e6},
+                                {"K_r": 7.5e-15, "P_cr": 5.0e6}, winch={"K_r": 9.4e-15, "P_cr": 1.15e7}),
+                           {"K_r": 1}),
+    },
+    "internal_leakage": {
+        "elastic_gap": (QF.ElasticGapLeakage,
+                        _per({"c0": 2e-12, "p_h": 3e6}, {"c0": 3e-13, "p_h": 1e6}, {"c0": 1e-11, "p_h": 1.5e6},
+                             winch={"c0": 2.3e-14, "p_h": 5e6}), {"c0": 1}),
+    },
+    "coulomb_friction": {
+        "tight_spot": (QF.TightSpotCoulomb,
+                       _per({"Fc_p": 500.0, "Fc_m": 600.0, "a": 2.0, "x1": 0.25, "x2": 0.33, "d": 0.005, "v_c": 0.004},
+                            {"Fc_p": 2.0, "Fc_m": 2.4, "a": 2.0, "x1": 0.2, "x2": 0.55, "d": 0.03, "v_c": 0.04},
+                            {"Fc_p": 500.0, "Fc_m": 600.0, "a": 2.0, "x1": 0.12, "x2": 0.16, "d": 0.003,
+                             "v_c": 0.004},
+                            # the winch: once per drum revolution (an eccentric bearing)
+                            winch={"Fc_p": 6.5, "Fc_m": 7.8, "a": 2.0, "x1": 0.0, "period": 2.0 * math.pi,
+                                   "v_c": 0.05}),
+                       {"Fc_p": 1, "Fc_m": 1}),
+    },
+    "entrained_air": {
+        "dissolving_free_air": (QF.DissolvingAir,
+                                _per(*[{"alpha0": a0, "B": 0.09, "P_sat": 1e5, "tau_r": 0.2, "tau_a": 30.0}
+                                       for a0 in (0.05, 0.2, 0.03)],
+                                     winch={"alpha0": 0.01, "B": 0.09, "P_sat": 1e5, "tau_r": 0.2, "tau_a": 30.0}),
+                                {"alpha0": 1}),
+    },
+    "line_dynamics": {
+        "rigid_pipes_fdf": (QF.RigidPipesFDF,
+                            _per(*[{"r": r, "L": L, "rho": 870.0, "nu": 4.6e-5}
+                                   for r, L in ((0.006, 5.0), (0.002, 1.5), (0.003, 3.0))], _NO_CBV,
+                                 winch={"r": 0.008, "L": 4.0, "rho": 870.0, "nu": 4.6e-5}),
+                            {"L": 1}),
+    },
+    "valve_overlap": {
+        "underlap": (QF.UnderlapSpool, _same({"U": 1.0}, {"U": 0.3}), {"U": 1}),
+    },
+    "input_delay": {
+        "network_jitter": (QF.JitterDelay, _same({"T_d": 0.01, "j": 0.4, "seed": 54},
+                                                 {"T_d": 0.005, "j": 0.4, "seed": 54}), {"T_d": 1}),
+    },
+    # a transducer on a long test-point hose: a Helmholtz resonance at tens of Hz (at the 150-300 Hz
+    # of a bare transducer the recordings carry too little content to show it)
+    "sensor_lag": {
+        "resonant_pressure": (QF.ResonantPressureSensor, _same({"f_n": 40.0, "zeta": 0.05}), {"f_n": -1}),
+    },
+    # the flow limits sit near the top percent of each bench's supply flow: a pump a little too
+    # small for the fastest moves. The effect is steep in Q_max (nothing above the largest
+    # demand, a drifting replay a little below): the size goes as its fourth root, so that the
+    # calibration's secant (slopes clipped to 0.3-4) can bracket the target
+    "supply_pressure_drop": {
+        "flow_limited_pump": (QF.FlowLimitedPump,
+                              _per({"Q_max": 6e-4, "V_l": 1e-3, "tau_c": 0.02},
+                                   {"Q_max": 4e-6, "V_l": 5e-5, "tau_c": 0.02},
+                                   {"Q_max": 2.5e-4, "V_l": 2e-4, "tau_c": 0.02},
+                                   winch={"Q_max": 2.5e-4, "V_l": 1e-3, "tau_c": 0.02}),
+                              {"Q_max": -0.25}),
+    },
+    "structural_flexibility": {
+        "bilinear_mount": (QF.BilinearMount,
+                           _per({"m_b": 300.0, "k_b": 1e7, "r": 3.0, "c_b": 1.1e4, "F_k": _LIFT_W},
+                                {"m_b": 0.2, "k_b": 3e3, "r": 3.0, "c_b": 2.0, "F_k": 0.0},
+                                {"m_b": 30.0, "k_b": 5e6, "r": 3.0, "c_b": 4000.0, "F_k": 0.0},
+                                winch={"m_b": 2.0, "k_b": 2.6e5, "r": 3.0, "c_b": 20.0, "F_k": _WINCH_W}),
+                           {"k_b": -1}),
+    },
+}
+for _e, _forms in FOURTH.items():
+    FORMS[_e].update(_forms)
+FOURTH_FORMS = {f: e for e, fs in FOURTH.items() for f in fs}
+
 LIMITS = {"alpha0": (0.0, 0.9), "frac_p": (0.05, 0.9), "m_frac": (0.002, 0.85),
           # a sampled controller no slower than 20 Hz (at 8 Hz the lift_cbv loop limit-cycles)
-          "T_s": (1e-3, 0.05)}
+          "T_s": (1e-3, 0.05),
+          # a transducer's resonance no lower than 15 Hz (the calibration would take it to 1 Hz:
+          # a low-pass, not a resonance)
+          "f_n": (15.0, 1e4)}
 
 # truth parameters the effect needs ZEROED in the truth base, and the machine-file edits that
 # remove the same term from the case's base.yaml: machine -> effect -> [(truth key, yaml key,
