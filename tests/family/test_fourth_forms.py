@@ -21,19 +21,9 @@ from experiments.family.generate import _truth, all_cases
 from experiments.family.machines import MACHINES
 from experiments.family.truth import fourth_forms as QF
 from experiments.family.truth.actuator import ActuatorTruth
+from truthruns import still_inputs, truth_model
 
 FOURTH = sorted(cat.FOURTH_FORMS.items())
-
-
-def _model(machine, effect, inputs=None, **over):
-    p = dict(MACHINES[machine].nominal)
-    p.update(over)
-    return _truth(MACHINES[machine], p, effect, inputs)
-
-
-def _still(T=1.0, dt=1e-3, Ps=1.6e7):
-    n = int(T / dt) + 2
-    return Inputs(0.0, dt, [0.0] * n, [Ps] * n, [0.0] * n)
 
 
 # ---- registration -----------------------------------------------------------------------------
@@ -58,7 +48,7 @@ def test_fourth_forms_are_registered_after_the_third_and_only_generated_when_nam
 def test_cracking_drain_is_shut_below_cracking_and_an_orifice_above():
     prm = cat.scaled_params("lift", "external_leakage", "cracking_drain", 1.0)
     eff = cat.make("external_leakage", "cracking_drain", prm)
-    m = _model("lift", eff, _still())
+    m = truth_model("lift", eff, still_inputs())
     Pcr, K, Pd = prm["P_cr"], prm["K_r"], m.p["Pd"]
     for P in (1e6, 0.5 * Pcr, Pcr - 1.0, Pcr):
         assert eff.drain(m, P) == 0.0
@@ -66,7 +56,7 @@ def test_cracking_drain_is_shut_below_cracking_and_an_orifice_above():
         assert eff.drain(m, P) == pytest.approx(K * (P - Pcr) * math.sqrt(P - Pd), rel=1e-12)
     assert eff.leakages(m, Pcr + 1e6, Pcr - 1e6) == (0.0, pytest.approx(K * 1e6 * math.sqrt(Pcr + 1e6 - Pd)), 0.0)
     # the leak drains chamber A in the truth: dP_A/dt drops by beta q / V_A, chamber B unchanged
-    base = ActuatorTruth(dict(m.p), None, _still())
+    base = ActuatorTruth(dict(m.p), None, still_inputs())
     y = m.initial_state(0.2, Pcr + 1e6, 2e6)
     d_on, d_off = m.rhs(0.1, y.copy()), base.rhs(0.1, y.copy())
     V_A = m.p["V10"] + m.p["A_A"] * 0.2
@@ -111,7 +101,7 @@ def test_dissolving_air_decays_at_tau_a_and_keeps_the_closed_chamber_invariant()
     # valve closed, piston locked (huge mass, no weight), no leak: the free air dissolves and the
     # pressure falls; oil + gas fill the fixed chamber: the oil's compression V P/beta equals the
     # gas volume's growth, V P/beta - g V P_atm/P = const
-    m = _model("lift", eff, _still(2.0), m=1e20, W=0.0, kv_p=0.0, kv_m=0.0, kc_p=0.0, kc_m=0.0)
+    m = truth_model("lift", eff, still_inputs(2.0), m=1e20, W=0.0, kv_p=0.0, kv_m=0.0, kc_p=0.0, kc_m=0.0)
     y0 = m.initial_state(0.2, 6e6, 3e6)
     t = np.linspace(0.0, 1.5, 151)
     sol = m.simulate(t, y0, rtol=1e-10, atol=1e-4 * m.default_atol())
@@ -141,7 +131,7 @@ def test_rigid_pipe_is_hagen_poiseuille_in_steady_flow_and_conserves_volume():
     d = eff.pipe_derivs(1.5e9, 0.0, 9e6, 0.0, [0.0, 0.0, 0.0], 8e6)
     assert d[1] == pytest.approx(1e6 / eff.I) and d[2:] == pytest.approx([m * d[1] for m in QF.TRIKHA_M])
     # valve closed, piston locked: oil only moves between the valve-end node and the chamber
-    m = _model("lift", eff, _still(3.0), m=1e20, W=0.0, kv_p=0.0, kv_m=0.0, kc_p=0.0, kc_m=0.0)
+    m = truth_model("lift", eff, still_inputs(3.0), m=1e20, W=0.0, kv_p=0.0, kv_m=0.0, kc_p=0.0, kc_m=0.0)
     y0 = m.initial_state(0.2, 4e6, 1e6)
     i = m.n_base
     y0[i] = 5e6
@@ -155,7 +145,7 @@ def test_rigid_pipe_is_hagen_poiseuille_in_steady_flow_and_conserves_volume():
 
 
 def test_underlapped_spool_leaks_supply_to_tank_at_null_and_is_the_base_valve_at_zero():
-    m = _model("lift", cat.make("valve_overlap", "underlap", {"U": 1.0}), _still())
+    m = truth_model("lift", cat.make("valve_overlap", "underlap", {"U": 1.0}), still_inputs())
     Ps, PA, PB, Pd, dl, Kv = 1.6e7, 8e6, 6e6, m.p["Pd"], m.p["dp_lam"], m.p["Kv"]
     y = m.initial_state(0.2, PA, PB)
     qa, qb, qs = m.effect.valve_flows(m, 0.0, Ps, y)
@@ -168,8 +158,8 @@ def test_underlapped_spool_leaks_supply_to_tank_at_null_and_is_the_base_valve_at
     assert qb == pytest.approx(-Kv * 4.0 / 100 * flow_law(PB - Pd, dl), rel=1e-12)
     off = cat.make("valve_overlap", "underlap", {"U": 0.0})
     for mach in ("lift", "winch"):
-        mo = _model(mach, off, _still())
-        bo = ActuatorTruth(dict(mo.p), None, _still())
+        mo = truth_model(mach, off, still_inputs())
+        bo = ActuatorTruth(dict(mo.p), None, still_inputs())
         yo = mo.initial_state(0.2, PA, PB)
         for xv in (-30.0, -0.2, 0.0, 0.3, 40.0):
             assert off.valve_flows(mo, xv, Ps, yo) == pytest.approx(bo.valve_flows(xv, Ps, PA, PB), rel=1e-13, abs=1e-22)
@@ -183,7 +173,7 @@ def test_jitter_delay_shifts_the_input_by_the_drawn_delay():
     inp = Inputs(0.0, dt, u, [1.6e7] * n, [0.0] * n)
     prm = {"T_d": 0.01, "j": 0.4, "seed": 54}
     eff = cat.make("input_delay", "network_jitter", prm)
-    m = _model("lift", eff, inp)
+    m = truth_model("lift", eff, inp)
     ds = []
     for k in range(5, 40):                        # at the packets: d_k = T_d (1 + j r_k), r_k in [-1, 1)
         r = QF._unit(54, k)

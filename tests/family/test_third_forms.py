@@ -17,19 +17,9 @@ from experiments.family import catalogue as cat
 from experiments.family.generate import _truth
 from experiments.family.machines import MACHINES
 from experiments.family.truth.actuator import ActuatorTruth
+from truthruns import still_inputs, truth_model
 
 THIRD = sorted(cat.THIRD_FORMS.items())
-
-
-def _model(machine, effect, inputs=None, **over):
-    p = dict(MACHINES[machine].nominal)
-    p.update(over)
-    return _truth(MACHINES[machine], p, effect, inputs)
-
-
-def _still(T=1.0, dt=1e-3, Ps=1.6e7):
-    n = int(T / dt) + 2
-    return Inputs(0.0, dt, [0.0] * n, [Ps] * n, [0.0] * n)
 
 
 def test_third_forms_are_in_the_catalogue_after_the_first_two():
@@ -57,14 +47,14 @@ def test_the_third_forms_are_generated_only_when_named():
 @pytest.mark.parametrize("P", [3e6, 1.2e7])
 def test_air_pocket_capacitance_is_the_isothermal_gas_law(P):
     eff = cat.make("entrained_air", "pocket_chamber_A", {"V_g0": 2e-4})
-    m = _model("lift", eff, _still())
+    m = truth_model("lift", eff, still_inputs())
     x = 0.2
     V_A = m.p["V10"] + m.p["A_A"] * x
     h = 1e-4 * P                                  # -dV_g/dP of V_g = V_g0 p_ref / P (central difference)
     dVg = -(2e-4 * 1e5 / (P + h) - 2e-4 * 1e5 / (P - h)) / (2 * h)
     assert eff.capacitance_A(m, x, P) == pytest.approx(V_A / m.p["beta"] + dVg, rel=1e-6)
     # the truth's chamber A follows dP_A/dt = (net inflow) / C_A; chamber B is untouched
-    ref = ActuatorTruth(dict(m.p), None, _still())
+    ref = ActuatorTruth(dict(m.p), None, still_inputs())
     y = ref.initial_state(x, P, 2e6)
     y[6] = 0.03
     d_on, d_off = m.rhs(0.1, y.copy()), ref.rhs(0.1, y.copy())
@@ -93,14 +83,14 @@ def test_scored_bore_leaks_laminar_inside_the_band_and_not_outside():
 
 def test_both_seals_friction_is_the_gauge_pressure_formula():
     eff = cat.make("pressure_dependent_friction", "both_seals_gauge", {"mu": 0.02, "eps2": 0.002})
-    m = _model("lift", eff, _still())
+    m = truth_model("lift", eff, still_inputs())
     AA, AB, Pd = m.p["A_A"], m.p["A_B"], m.p["Pd"]
     PA, PB, v = 8e6, 1.5e6, 0.004
     ref = 0.02 * (AA * (PA - Pd) + AB * (PB - Pd)) * math.tanh(v / 0.002)
     assert eff.extra_friction(m, v, PA, PB) == pytest.approx(ref, rel=1e-12)
     assert eff.extra_friction(m, -v, PA, PB) == pytest.approx(-ref, rel=1e-12)
     # a rotary vane: one displacement on both sides
-    mr = _model("rotary", eff, _still(Ps=1e7))
+    mr = truth_model("rotary", eff, still_inputs(Ps=1e7))
     D = mr.p["A_A"]
     assert eff.extra_friction(mr, 1.0, 5e6, 4e6) == pytest.approx(0.02 * D * (9e6 - 2e5), rel=1e-9)
 
@@ -122,7 +112,7 @@ def test_sampled_controller_holds_the_one_sample_delayed_samples():
     u = 20.0 * np.sin(2 * math.pi * 4.0 * t) + 5.0 * np.cos(2 * math.pi * 11.0 * t)
     inp = Inputs(0.0, dt, u, [1.6e7] * n, [0.0] * n)
     eff = cat.make("input_delay", "sampled_controller", {"T_s": Ts})
-    m = _model("lift", eff, inp)
+    m = truth_model("lift", eff, inp)
     for tq in (0.0234, 0.05, 0.0999, 0.1731, 0.25):
         k = int(math.floor(tq / Ts + 1e-9))
         held = u[max(10 * (k - 1), 0)]            # the sample taken one period before the current one
@@ -176,7 +166,7 @@ def test_hose_on_line_a_conserves_volume_and_equalises():
     eff = cat.make("line_dynamics", "hose_A_only", prm)
     # valve closed (u = 0), piston locked (huge mass, no weight): the oil in the valve-end node
     # and in chamber A (+ the hose's cylinder-end half) only moves between them
-    m = _model("lift", eff, _still(3.0), m=1e20, W=0.0, kv_p=0.0, kv_m=0.0, kc_p=0.0, kc_m=0.0)
+    m = truth_model("lift", eff, still_inputs(3.0), m=1e20, W=0.0, kv_p=0.0, kv_m=0.0, kc_p=0.0, kc_m=0.0)
     x = 0.2
     y0 = m.initial_state(x, 4e6, 1e6)
     i = m.n_base
@@ -215,8 +205,8 @@ def test_dry_damped_mount_static_deflection_is_f_over_k():
 def test_cushion_is_two_orifices_in_series_on_the_outflow_only():
     prm = cat.scaled_params("lift", "end_stop", "hydraulic_cushion", 1.0)
     eff = cat.make("end_stop", "hydraulic_cushion", prm)
-    m = _model("lift", eff, _still())
-    base = ActuatorTruth(dict(m.p), None, _still())
+    m = truth_model("lift", eff, still_inputs())
+    base = ActuatorTruth(dict(m.p), None, still_inputs())
     Ps, PA, PB = 1.6e7, 5e6, 1e7
     y = m.initial_state(prm["x_stop"], PA, PB)
     xv = 20.0
