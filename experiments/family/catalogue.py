@@ -16,6 +16,7 @@ import math
 
 from experiments.concealed.truth import effects as C
 
+from .machines import MACHINES
 from .truth import forms as F
 from .truth import fourth_forms as QF
 from .truth import third_forms as TF
@@ -268,8 +269,8 @@ THIRD_FORMS = {f: e for e, fs in THIRD.items() for f in fs}
 # fourth forms (session 54, truth/fourth_forms.py): physically different again from every form
 # above, the winch included where the physics fits; appended after the third, generated only
 # when --forms names them (generate.all_cases), like the third
-_LIFT_W = 1500.0 * 9.81            # the lift's static load [N] (its mount's knee)
-_WINCH_W = 400.0 * 9.81 * 0.15     # the winch's static load torque [N m]
+_LIFT_W = MACHINES["lift"].nominal["W"]      # the lift's static load [N] (its mount's knee)
+_WINCH_W = MACHINES["winch"].nominal["W"]    # the winch's static load torque [N m]
 FOURTH = {
     # the cracking pressures sit near the median chamber pressure of each bench's recordings
     "external_leakage": {

@@ -18,18 +18,10 @@ from experiments.concealed.truth import effects as C
 from experiments.concealed.truth.eha import flow_law
 
 from .forms import CompliantMount, _centre_leak, ports
-from .third_forms import logistic
+from .third_forms import chamber_volumes, logistic
 
 Effect = C.Effect
 P_ATM = 1e5          # [Pa] the reference pressure of a free-air volume
-
-
-def chamber_volumes(model, x: float) -> tuple[float, float]:
-    """V_1, V_2 of the truth the effect runs on (cylinder, vane, motor or the EHA's)."""
-    if hasattr(model, "chamber_volumes"):
-        return model.chamber_volumes(x)
-    p = model.p
-    return p["V10"] + p["A"] * x, p["V20"] - p["A"] * x
 
 
 # ---- 1. external_leakage: port relief valves that weep above their cracking pressure -------

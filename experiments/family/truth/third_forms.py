@@ -24,11 +24,17 @@ Effect = C.Effect
 P_REF = 1e5          # [Pa] pressure at which the trapped air pocket's volume is given
 
 
+def chamber_volumes(model, x: float) -> tuple[float, float]:
+    """V_1, V_2 of the truth the effect runs on (cylinder, vane, motor or the EHA's)."""
+    if hasattr(model, "chamber_volumes"):
+        return model.chamber_volumes(x)
+    p = model.p
+    return p["V10"] + p["A"] * x, p["V20"] - p["A"] * x
+
+
 def chamber_volume_A(model, x: float) -> float:
     """V_A(x) of the truth the effect runs on (a cylinder, a vane or the EHA's chamber 1)."""
-    if hasattr(model, "chamber_volumes"):
-        return model.chamber_volumes(x)[0]
-    return model.p["V10"] + model.p["A"] * x
+    return chamber_volumes(model, x)[0]
 
 
 def logistic(z: float) -> float:
