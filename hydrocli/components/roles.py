@@ -42,6 +42,9 @@ end_cushion        ports chamber, line, motion, reference; params open_flow (the
                    away from the end), needle (the cushioning orifice's), check (the inflow bypass),
                    end (the cushioned end's position), direction (+1 extended end, −1 retracted),
                    length (the needle-only travel), entry (over which the outlet closes)
+relief             ports inlet, outlet; params flow (the flow coefficient fully open, q = ξ·C_V·√Δp),
+                   cracking (the pressure where it starts to open), override (the pressure rise from
+                   cracking to full opening), smoothing (of the opening's corners, a share of it)
 band_restriction   ports a, b, motion, reference; params conductance (laminar, inside the band),
                    band_start, band_end (positions), edge (width of the band's edges)
 weight             ports node; params weight (a gravity load's force or moment), hanging (a
@@ -67,6 +70,7 @@ GAS_VOLUME = "gas_volume"
 RESTRICTION = "restriction"
 LAMINAR_RESTRICTION = "laminar_restriction"
 BAND_RESTRICTION = "band_restriction"
+RELIEF = "relief"
 END_CUSHION = "end_cushion"
 WEIGHT = "weight"
 PENDULUM = "pendulum"

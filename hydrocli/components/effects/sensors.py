@@ -36,6 +36,38 @@ class PressureSensor(Component):
         c.let("p", y)
 
 
+_RING_ZETA = Param("zeta", "1", 0.71, "damping ratio of the transducer's resonance (a sensing line and the "
+                   "transducer's cavity ring lightly: 0.02–0.2; 0.71 a flat response)", positive=True,
+                   bounds=(0.01, 3.0))
+
+
+@register
+class ResonantPressureSensor(Component):
+    """Pressure transducer with a resonance: y'' = (p − y − 2ζτ·y')/τ², i.e.
+    1/(τ²s² + 2ζτs + 1), natural frequency f_n = 1/(2πτ). A transducer on a sensing line or
+    a drilled port is a Helmholtz resonator (the line's oil mass on the cavity's compliance)
+    ringing at tens to hundreds of hertz, lightly damped (Doebelin, *Measurement Systems*
+    §6.2 (second-order instruments); Jelali & Kroll §6.5). Same ports and time constant as
+    ``pressure_sensor`` (a drop-in replacement), with the damping ratio added."""
+
+    type = "pressure_sensor_2nd"
+    family = "effects"
+    description = "Pressure transducer with a second-order (resonant) response (measured value y)"
+    source = "second-order instrument, Doebelin §6.2; Jelali & Kroll §6.5"
+    ports = (Port("P", H, "sensed node"),)
+    parameters = (_TAU, _RING_ZETA)
+    states = (StateSpec("y", "Pa", "measured pressure", nominal=1e5),
+              StateSpec("yd", "Pa/s", "rate of the measured pressure", nominal=1e7))
+    variables = (VariableSpec("p", "Pa", "measured pressure (alias of the state)"),)
+
+    def equations(self, c):
+        y, yd = c.state("y"), c.state("yd")
+        c.der("y", yd)
+        c.der("yd", second_order(y, yd, c.across("P"), c.p.tau, c.p.zeta))
+        c.at_rest("y", c.across("P"))
+        c.let("p", y)
+
+
 @register
 class MotionSensor(Component):
     """Position and velocity sensor with lag on a translational node: measured x_m, v_m

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from ...model import expr as E
+from .. import roles as RL
 from ..base import Component, H, Param, Port, VariableSpec
 from ..registry import register
 from .valve_pc import smooth_clamp
@@ -69,6 +70,8 @@ class ReliefValve(Component):
     description = "Pressure relief valve P→T with cracking pressure and pressure override"
     source = "seed 000 eqs. 6, 12 (pressure-equilibrium opening)"
     ports = (Port("P", H, "protected line"), Port("T", H, "tank/return"))
+    roles = (RL.role(RL.RELIEF, {"inlet": "P", "outlet": "T"}, flow="Cv", cracking="p_cr", override="k_s",
+                     smoothing="eps"),)
     parameters = tuple(
         Param("p_cr", "Pa", 2.5e7, "cracking (setting) pressure", min=0.0, bounds=(1e5, 5e7)) if p.name == "p_cr"
         else Param("k_s", "Pa", 1e6, "pressure override from cracking to full opening", positive=True,

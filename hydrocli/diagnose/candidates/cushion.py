@@ -13,7 +13,7 @@ from __future__ import annotations
 from ...components import roles as R
 from ...components.base import Domain
 from .. import augment as A
-from ..measurement import SENSOR_TYPE
+from ..measurement import SENSOR_TYPES
 from .base import Candidate, Context, Family, NewParam, Part, Skipped
 from .circuit import valve_kv
 from .leakage import stop_damping, stop_stiffness
@@ -98,7 +98,7 @@ def _cushion(ctx: Context, act: Part, end: str) -> Candidate | Skipped | None:
     def build(net):
         for comp, port in list(net.nodes().get(chamber, [])):
             c = net.components[comp]
-            if comp in keep or c.type == SENSOR_TYPE or c.type == vtyp:
+            if comp in keep or c.type in SENSOR_TYPES or c.type == vtyp:
                 continue                       # the chamber keeps its actuator, sensors and volumes
             net = A.connect(net, comp, port, line)
         net = A.add(net, fit, vtyp, {vrole.port("node"): line}, {vrole.param("volume"): LINE_VOLUME * max(v_dead, 1e-6)})

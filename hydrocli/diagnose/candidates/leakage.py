@@ -59,6 +59,9 @@ class CylinderFamily(Family):
                 out.append(band)
             out.extend(self._external(ctx, act, a, b, k))
             out.extend(self._seals(ctx, act, a, b, k))
+            weep = _weeping_reliefs(ctx, act, [a, b], k)
+            if weep is not None:
+                out.append(weep)
             out.append(self._air(ctx, act, a, b))
             pockets = _air_pockets(ctx, act, [a, b])
             if pockets is not None:
@@ -341,6 +344,70 @@ def _band_leak(ctx: Context, act: Part, a: str, b: str, k: float) -> Candidate |
     return Candidate("internal_leakage", act.name, params, build, "continuity",
                      "laminar leakage across the piston/vane over a band of the stroke only (a scored barrel), "
                      "q = c·w(x)·(p_A − p_B)", variant="band")
+
+
+WEEP_OVERRIDE = 1e9     # Pa: the weeping poppet's pressure rise to full opening, beyond any chamber
+                        # pressure, so its lift stays proportional to the excess: q = (C_V/k_s)·(p − p_T − p_cr)·√(p − p_T)
+WEEP_SMOOTHING = 1e-5   # share of that opening over which the cracking corner is smoothed (0.1 bar)
+WEEP_CRACK_STARTS = (0.5, 0.25, 0.75)   # cracking pressures the fit starts from, as shares of the supply
+
+
+def _weeping_reliefs(ctx: Context, act: Part, nodes: list[str], k: float) -> Candidate | None:
+    """External leakage that flows only ABOVE a pressure: a spring-loaded poppet from each
+    chamber to drain (a port or shock relief, a make-up valve with a worn seat) closed below its
+    cracking pressure p_cr and lifting in proportion to the excess (library ``relief``: the
+    :class:`~hydrocli.components.hydraulic.pressure_valves.ReliefValve` with its full-open rise
+    k_s far above any chamber pressure), q = (C_V/k_s)·max(p − p_T − p_cr, 0)·√(p − p_T) (seed 000
+    eqs. 6, 12; Manring, *Hydraulic Control Systems* ch. 5: poppet lift x = A(p − p_cr)/k).
+
+    What tells it from a seal's leak (laminar q = c·p, or an orifice) is WHERE in the pressure
+    range the fluid goes: a seal drains at every pressure, so a base fit that misses it
+    drifts in every hold; a weeping relief drains only in the high-pressure part of the
+    cycle. Laminar and orifice laws forced onto such a leak lose at low pressure what they
+    gain at high, and the valve's asymmetry or overlap, which also act only in parts of the
+    cycle, had stood in for it. Each chamber has its own valve, each conductance may stay at
+    "off" (one chamber's relief weeps); the cracking pressures are companions started at
+    shares of the supply pressure. None without a tank, a supply or a library type."""
+    tank, p_s = _tank_node(ctx), _supply_pressure(ctx)
+    if tank is None or not p_s > 0:
+        return None
+    try:
+        typ, role = ctx.element(R.RELIEF, Domain.HYDRAULIC, "inlet")
+    except KeyError:
+        return None
+    names = [A.unique_name(ctx.net, f"{act.name}_relief_{i + 1}") for i in range(len(nodes))]
+    cv, crack = role.param("flow"), role.param("cracking")
+    # conductance over the override, K = C_V/k_s (m³/s/Pa^1.5): a laminar seal's range 5e-15…5e-10·k
+    # m³/s/Pa over √(100 bar) gives K 1.6e-18…1.6e-13·k; started where 100 bar drains 3·10⁻¹⁰ m³/s
+    on = WEEP_OVERRIDE
+    params = [NewParam(f"{n}.{cv}", 1e-20 * k * on, (1e-21 * k * on, 1e-11 * k * on),
+                       (1.6e-18 * k * on, 1.6e-13 * k * on), 1e-15 * k * on, True) for n in names]
+    starts = tuple(f * p_s for f in WEEP_CRACK_STARTS)
+    params += [NewParam(f"{n}.{crack}", starts[0], (0.0, 1.5 * p_s), (0.0, 1.5 * p_s), starts[0], log=False,
+                        primary=False, shapes=starts[1:]) for n in names]
+    fixed = {role.param("override"): WEEP_OVERRIDE, role.param("smoothing"): WEEP_SMOOTHING}
+
+    def build(net):
+        for n, node in zip(names, nodes):
+            net = A.add(net, n, typ, {role.port("inlet"): node, role.port("outlet"): tank},
+                        {**fixed, cv: 1e-20 * k * on, crack: starts[0]})
+        return A.free_new(net, params)
+    return Candidate("external_leakage", act.name, params, build, "continuity",
+                     "a weeping relief poppet from each chamber to drain, closed below its cracking pressure: "
+                     "q = K·max(p − p_cr, 0)·√p", variant="relief")
+
+
+def _supply_pressure(ctx: Context) -> float:
+    """The highest pressure a pressure source of the machine delivers: its set-point input's
+    first sample (mean over training) where one drives it, else its own value; 0 when none."""
+    found = [0.0]
+    for src in ctx.parts(R.PRESSURE_SOURCE):
+        ref = src.node("reference")
+        try:
+            found.append(ctx.inputs_start[ref] if ref in ctx.inputs_start else ctx.value(src.param("pressure")))
+        except (KeyError, TypeError, ValueError):
+            continue
+    return float(max(found))
 
 
 def _tank_node(ctx: Context) -> str | None:

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from .. import augment as A
 from ..locate import POSITIONS, ROTARY, SPEEDS
-from ..measurement import PRESSURE_TAU_BOUNDS, sensor_components
+from ..measurement import PRESSURE_TAU_BOUNDS, SENSOR_TYPES, sensor_components
 from .base import Candidate, Context, Family, NewParam, Skipped
 
 
@@ -78,6 +78,7 @@ class SensorLagFamily(Family):
                 return net
             out.append(Candidate("sensor_lag", sensors[0], params, widen, "measurement",
                                  "pressure sensors slower than a typical transducer"))
+            out.append(_ringing_pressure(ctx, sensors))
         for node, rotary in _sensed(ctx, POSITIONS + SPEEDS):
             sens = A.unique_name(ctx.net, f"{node}_sensor")
             tau = f"{sens}.tau"
@@ -93,6 +94,49 @@ class SensorLagFamily(Family):
                                                        f"sensor on '{node}'"))
         out += [_speed_filter(ctx, node, rotary) for node, rotary in _sensed(ctx, SPEEDS)]
         return out or [Skipped("sensor_lag", "no sensed output")]
+
+
+RINGING = 0.4          # damping ratio below which a transducer's step response overshoots by > 25 %: a ring
+RING_ZETA_STARTS = (0.1, 0.03, 0.3)   # damping ratios the fit starts from (a sensing line rings lightly)
+
+
+def _ringing_pressure(ctx: Context, sensors: list[str]) -> Candidate:
+    """Pressure transducers that RING: each measured pressure read through a second-order
+    response 1/(τ²s² + 2ζτs + 1) (library ``pressure_sensor_2nd``, a drop-in for the
+    first-order ``pressure_sensor``): a transducer on a sensing line or a drilled port, the
+    line's oil mass on the cavity's compliance (Doebelin §6.2). A first-order lag, however
+    slow, cannot overshoot, and what rings in the pressure alone is otherwise fitted as a mode
+    of the structure (a mount, a rod–load link) that must also move the position.
+
+    What separates it from those modes is WHERE the ringing is: a sensor's resonance is in
+    the pressure it reads and in nothing downstream of it, while a structural mode feeds back
+    through the load into the motion and every chamber. τ (the resonance's, f_n = 1/(2πτ)) is
+    the primary, plausible from f_n = 160 Hz (τ 1 ms: a typical transducer resonates in the
+    kilohertz); ζ a companion started at light damping. A fit that neither rings (ζ ≥ RINGING)
+    nor lags as much as a clearly slow transducer (equivalent lag 2ζτ < CLEARLY_SLOW) is only
+    the nuisance lag again, and is refused (:attr:`Candidate.checks`)."""
+    params = []
+    for s in sensors:
+        tau0 = max(min(ctx.value(f"{s}.tau"), PRESSURE_TAU_BOUNDS[1]) / 2.0, PRESSURE_TAU_BOUNDS[0])
+        params.append(NewParam(f"{s}.tau", tau0, (PRESSURE_TAU_BOUNDS[0], SLOW_SENSOR_MAX),
+                               (1e-3, SLOW_SENSOR_MAX), 4e-3, True))
+        params.append(NewParam(f"{s}.zeta", RING_ZETA_STARTS[0], (0.01, 3.0), (0.01, 3.0), RING_ZETA_STARTS[0], True,
+                               primary=False, ref=0.71, shapes=RING_ZETA_STARTS[1:], basins=True))
+
+    def build(net, params=params):
+        for s in sensors:
+            net = A.set_type(net, s, SENSOR_TYPES[1])
+        return A.free_new(net, params)
+
+    def rings(est: dict[str, float], names=tuple(sensors)) -> str | None:
+        found = [(est.get(f"{s}.tau"), est.get(f"{s}.zeta")) for s in names]
+        if any(t is not None and z is not None and (z < RINGING or 2.0 * z * t >= CLEARLY_SLOW) for t, z in found):
+            return None
+        return (f"no transducer rings (ζ ≥ {RINGING}) or lags beyond a typical one "
+                f"(2ζτ < {CLEARLY_SLOW * 1e3:g} ms): the nuisance lag, not a finding")
+    return Candidate("sensor_lag", sensors[0], params, build, "measurement",
+                     "pressure transducers with a resonance (a sensing line ringing): second-order response",
+                     variant="resonant", checks=(rings,))
 
 
 def _speed_filter(ctx: Context, node: str, rotary: bool) -> Candidate:
