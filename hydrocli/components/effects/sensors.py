@@ -61,11 +61,7 @@ class ResonantPressureSensor(Component):
     variables = (VariableSpec("p", "Pa", "measured pressure (alias of the state)"),)
 
     def equations(self, c):
-        y, yd = c.state("y"), c.state("yd")
-        c.der("y", yd)
-        c.der("yd", second_order(y, yd, c.across("P"), c.p.tau, c.p.zeta))
-        c.at_rest("y", c.across("P"))
-        c.let("p", y)
+        _second_order_reading(c, c.across("P"), ("y", "yd"), "p")
 
 
 @register
@@ -157,8 +153,14 @@ class RotarySpeedSensor(Component):
 
 def _filtered_speed(c, var: str) -> None:
     """v_m'' = (v − v_m − 2ζτ·v_m')/τ² (:func:`second_order`) for the node's speed."""
-    vm, am = c.state("vm"), c.state("am")
-    c.der("vm", am)
-    c.der("am", second_order(vm, am, c.across("a"), c.p.tau, c.p.zeta))
-    c.at_rest("vm", c.across("a"))
-    c.let(var, vm)
+    _second_order_reading(c, c.across("a"), ("vm", "am"), var)
+
+
+def _second_order_reading(c, value, states: tuple[str, str], var: str) -> None:
+    """y'' = (u − y − 2ζτ·y')/τ² for the sensed ``value`` u: the reading's state and its rate
+    (``states``), the reading named ``var``, at rest equal to what it senses."""
+    y, yd = (c.state(s) for s in states)
+    c.der(states[0], yd)
+    c.der(states[1], second_order(y, yd, value, c.p.tau, c.p.zeta))
+    c.at_rest(states[0], value)
+    c.let(var, y)
