@@ -45,6 +45,8 @@ end_cushion        ports chamber, line, motion, reference; params open_flow (the
 relief             ports inlet, outlet; params flow (the flow coefficient fully open, q = ξ·C_V·√Δp),
                    cracking (the pressure where it starts to open), override (the pressure rise from
                    cracking to full opening), smoothing (of the opening's corners, a share of it)
+dissolving_air     ports node; params free_air (its volume at 1 bar when the record starts), absorption
+                   and release (time constants), oil_volume, solubility, saturation (Henry's law)
 band_restriction   ports a, b, motion, reference; params conductance (laminar, inside the band),
                    band_start, band_end (positions), edge (width of the band's edges)
 weight             ports node; params weight (a gravity load's force or moment), hanging (a
@@ -71,6 +73,7 @@ RESTRICTION = "restriction"
 LAMINAR_RESTRICTION = "laminar_restriction"
 BAND_RESTRICTION = "band_restriction"
 RELIEF = "relief"
+DISSOLVING_AIR = "dissolving_air"
 END_CUSHION = "end_cushion"
 WEIGHT = "weight"
 PENDULUM = "pendulum"
