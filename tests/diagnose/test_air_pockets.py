@@ -48,7 +48,7 @@ def test_each_chamber_gets_its_own_pocket_started_at_no_effect(pocket):
     companion bounded by its limiting laws; at the start the chambers' pressure rates are the
     machine's own to 1e-4 down to 20 bar."""
     net, model, cand, cands = pocket
-    assert [c.variant for c in cands] == ["", "pocket"]
+    assert [c.variant for c in cands] == ["", "pocket", "dissolving"]
     amounts = [p for p in cand.params if p.primary]
     assert len(amounts) == 2 and all(p.start <= 1e-4 for p in amounts)
     assert all(p.limits and p.bounds == (1.0, 1.4) for p in cand.params if not p.primary)
@@ -96,3 +96,33 @@ def test_the_pockets_stiffness_rises_with_pressure_a_hoses_does_not(pocket):
     p_off = aug.param_vector({a_air: 1e-30, b_air: 1e-30})
     slow = [1 - _dp_dt(aug, p_on, pr)[0] / _dp_dt(aug, p_off, pr)[0] for pr in (2e6, 1.2e7)]
     assert slow[0] > 5 * slow[1]
+
+
+def test_air_that_dissolves_during_the_record_starts_at_no_effect_and_adds_its_gas_and_the_volume_it_leaves(pocket):
+    """The ``dissolving`` variant: a free-air state per chamber (G₀ primary, either may stay
+    off; the absorption time constant a companion started at 30 s, 5 s and 150 s). At its
+    start the chamber rates are the machine's to 10⁻⁴; with G₀ = 5 % of V_A0 in chamber A at
+    the record's start (s = 1, dissolving: Ġ = −G₀/τ_a) the continuity of oil and gas gives
+    (C_oil + G₀·p_atm/p²)·ṗ_A = C_oil·ṗ_A,off − p_atm·G₀/(τ_a·p) (Zhou et al. 2013)."""
+    net, model, _, cands = pocket
+    cand = next(c for c in cands if c.variant == "dissolving")
+    amounts = [p for p in cand.params if p.primary]
+    taus = [p for p in cand.params if not p.primary]
+    assert len(amounts) == 2 and len(taus) == 2
+    assert all(t.start == 30.0 and t.shapes == (5.0, 150.0) for t in taus)
+    aug = build_model(cand.build(net))
+    for pres in (2e6, 5e6, 1e7):
+        assert _dp_dt(aug, aug.p0, pres) == pytest.approx(_dp_dt(model, model.p0, pres), rel=1e-4)
+    a_g, b_g = (p.name for p in amounts)
+    a_t, _ = (p.name for p in taus)
+    V_A0 = model.param_vector()[model.param_index("cylinder.V_A0")]
+    beta = model.param_vector()[model.param_index("cylinder.beta")]
+    A_A = model.param_vector()[model.param_index("cylinder.A")]
+    x = next(s.initial for s in model.states if s.name == "piston.x")
+    C_oil = (V_A0 + A_A * x) / beta
+    G0, tau, pres = 0.05 * V_A0, 10.0, 2e6
+    p_on = aug.param_vector({a_g: G0, a_t: tau, b_g: 1e-30})
+    p_off = aug.param_vector({a_g: 1e-30, b_g: 1e-30})
+    (a1, b1), (a0, b0) = _dp_dt(aug, p_on, pres), _dp_dt(aug, p_off, pres)
+    assert a1 == pytest.approx((C_oil * a0 - P0 * G0 / (tau * pres)) / (C_oil + G0 * P0 / pres ** 2), rel=1e-6)
+    assert b1 == pytest.approx(b0, rel=1e-9)

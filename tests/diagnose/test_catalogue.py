@@ -370,7 +370,7 @@ def test_a_motors_air_is_one_fraction_in_its_chambers_or_volumes_where_it_has_no
         "components:\n", "components:\n  hose_a: {type: volume, ports: {P: chamber_1}, V: 6.0e-4}\n"
                          "  hose_b: {type: volume, ports: {P: chamber_2}, V: 6.0e-4}\n", 1)
     assert drawn.count("V: 6.0e-4") == 2
-    for net, variants, names in ((base, ["", "pocket"], ["motor.air", "motor.air_n", "motor.p_dissolve"]),
+    for net, variants, names in ((base, ["", "pocket", "dissolving"], ["motor.air", "motor.air_n", "motor.p_dissolve"]),
                                  (load_netlist_text(drawn, "winch_lines.yaml"), ["volume"], None)):
         model = build_model(net)
         ctx = Context(net, set(model.free_params), {"drum_node": (0.0, 8.0)}, {})

@@ -66,6 +66,9 @@ class CylinderFamily(Family):
             pockets = _air_pockets(ctx, act, [a, b])
             if pockets is not None:
                 out.append(pockets)
+            dissolving = _dissolving_air(ctx, act, [a, b])
+            if dissolving is not None:
+                out.append(dissolving)
             out.append(self._end_stop(ctx, act))
         return out
 
@@ -294,6 +297,51 @@ def _air_pockets(ctx: Context, act: Part, nodes: list[str]) -> Candidate | None:
     return Candidate("entrained_air", act.name, params, build, "continuity",
                      "a pocket of free air in each chamber, its own amount per chamber (one may stay at off): a "
                      "compliance that softens as 1/p^(1+1/n), unlike a hose's", variant="pocket")
+
+
+ABSORPTION = (30.0, 5.0, 150.0)   # s: the absorption time constants the fit starts from (air going back into
+                                  # solution over seconds to minutes: Zhou, Vacca & Manhartsgruber 2013)
+
+
+def _dissolving_air(ctx: Context, act: Part, nodes: list[str]) -> Candidate | None:
+    """Free air that goes back into solution DURING the record (oil that stood aerated): on
+    each chamber node a ``dissolving_air`` element (:class:`~hydrocli.components.hydraulic.
+    dissolving_air.DissolvingAir`), its free air G a state starting at G₀ and relaxing to
+    Henry's equilibrium, slowly (τ_a) as it dissolves above the saturation pressure, fast
+    (0.2 s) as it comes out below it; isothermal gas, capacitance G·p_atm/p² and the volume
+    the dissolving gas leaves, p_atm·Ġ/p (Zhou, Vacca & Manhartsgruber 2013).
+
+    What no fixed air fraction, hose or mount has is the DRIFT: the chamber stiffens over the
+    record, and each record starts soft again. A fixed compliance fits the middle of the record
+    and errs at both ends; a leak (the stand-in that won the probe's vane case) drifts the
+    pressure but never changes the stiffness. G₀ per chamber is primary (sized by the chamber's
+    dead volume: 10⁻³ … 1 of it at 1 bar, as the shared fraction), τ_a a companion started at
+    30 s, 5 s and 150 s; a fit that ends at τ_a's upper bound is air that does not dissolve in
+    the record, the static law's. None without chamber volumes, when the lines hold all the oil (a motor's
+    air then goes into volumes on its nodes: :func:`_air_volumes`) or without a library type."""
+    vols = act.params("dead_volumes")
+    if len(vols) != len(nodes) or not _holds_oil(ctx, act):
+        return None
+    try:
+        sizes = [max(ctx.value(v), 1e-6) for v in vols]
+        typ, role = ctx.element(R.DISSOLVING_AIR, Domain.HYDRAULIC)
+    except (KeyError, TypeError, ValueError):
+        return None
+    names = [A.unique_name(ctx.net, f"{act.name}_dissolving_{i + 1}") for i in range(len(nodes))]
+    g0, tau = role.param("free_air"), role.param("absorption")
+    params = [NewParam(f"{n}.{g0}", 1e-6 * v, (1e-7 * v, AIR_MAX * v), (1e-3 * v, AIR_MAX * v), 0.03 * v, True)
+              for n, v in zip(names, sizes)]
+    params += [NewParam(f"{n}.{tau}", ABSORPTION[0], (0.5, 1000.0), (0.5, 1000.0), ABSORPTION[0], True, primary=False,
+                        shapes=ABSORPTION[1:]) for n in names]
+
+    def build(net):
+        for n, node, v in zip(names, nodes, sizes):
+            net = A.add(net, n, typ, {role.port("node"): node},
+                        {g0: 1e-6 * v, tau: ABSORPTION[0], role.param("oil_volume"): v})
+        return A.free_new(net, params)
+    return Candidate("entrained_air", act.name, params, build, "continuity",
+                     "free air in each chamber going back into solution during the record (its amount a state): "
+                     "the chambers stiffen with time", variant="dissolving")
 
 
 BAND_EDGE = 0.02        # share of the stroke seen over which a band leak's edges open (a seal land crossing a score)
