@@ -395,7 +395,8 @@ def _band_leak(ctx: Context, act: Part, a: str, b: str, k: float) -> Candidate |
 
 
 WEEP_OVERRIDE = 1e9     # Pa: the weeping poppet's pressure rise to full opening, beyond any chamber
-                        # pressure, so its lift stays proportional to the excess: q = (C_V/k_s)·(p − p_T − p_cr)·√(p − p_T)
+                        # pressure, so its lift stays proportional to the excess:
+                        # q = (C_V/k_s)·(p − p_T − p_cr)·√(p − p_T)
 WEEP_SMOOTHING = 1e-5   # share of that opening over which the cracking corner is smoothed (0.1 bar)
 WEEP_CRACK_STARTS = (0.5, 0.25, 0.75)   # cracking pressures the fit starts from, as shares of the supply
 
@@ -442,7 +443,7 @@ def _weeping_reliefs(ctx: Context, act: Part, nodes: list[str], k: float) -> Can
         return A.free_new(net, params)
     return Candidate("external_leakage", act.name, params, build, "continuity",
                      "a weeping relief poppet from each chamber to drain, closed below its cracking pressure: "
-                     "q = K·max(p − p_cr, 0)·√p", variant="relief")
+                     "q = K·max(p − p_T − p_cr, 0)·√(p − p_T)", variant="relief")
 
 
 def _supply_pressure(ctx: Context) -> float:
