@@ -21,8 +21,8 @@ PRESSURE_TAU_TYPICAL = 1.5e-3          # s: a transducer's lag with its amplifie
                                        # a fit that presses the ceiling above stands for a lag the machine
                                        # file lacks, and is restrained to this (:mod:`.restrain`)
 SENSOR_TYPE = "pressure_sensor"
-SENSOR_TYPES = (SENSOR_TYPE, "pressure_sensor_2nd")   # every pressure transducer law (a resonant one: the
-                                                      # ``sensor_lag`` candidate's ringing variant)
+RESONANT_SENSOR_TYPE = "pressure_sensor_2nd"   # a ringing transducer: the ``sensor_lag`` candidate's variant
+SENSOR_TYPES = (SENSOR_TYPE, RESONANT_SENSOR_TYPE)   # every pressure transducer law
 
 
 def pressure_nodes(net: Netlist) -> list[str]:

@@ -254,6 +254,26 @@ def _holds_oil(ctx: Context, act: Part) -> bool:
 P_FREE = 1e5           # Pa: free air is measured at 1 bar (absolute)
 
 
+def _free_air(name: str, oil: float) -> NewParam:
+    """A chamber's own amount of free air at 1 bar (log scale), sized by its oil volume: from
+    10⁻³ of it to AIR_MAX (as the shared fraction), started at 10⁻⁶ of it (no effect)."""
+    return NewParam(name, 1e-6 * oil, (1e-7 * oil, AIR_MAX * oil), (1e-3 * oil, AIR_MAX * oil), 0.03 * oil, True)
+
+
+def _chamber_oil(ctx: Context, act: Part, nodes: list[str]) -> list[float] | None:
+    """Each chamber's own oil volume at the reference position (its dead volume, at least
+    1 cm³), one per chamber node: what the per-chamber air laws are sized by. None when the
+    actuator holds no oil of its own (:func:`_holds_oil`), its role lists no volume per chamber,
+    or a volume cannot be read."""
+    vols = act.params("dead_volumes")
+    if len(vols) != len(nodes) or not _holds_oil(ctx, act):
+        return None
+    try:
+        return [max(ctx.value(v), 1e-6) for v in vols]
+    except (KeyError, TypeError, ValueError):
+        return None
+
+
 def _air_pockets(ctx: Context, act: Part, nodes: list[str]) -> Candidate | None:
     """Free air trapped in ONE chamber more than the other (a poorly bled cylinder: the pocket
     collects at the high port), beside :meth:`CylinderFamily._air`'s air shared by both chambers.
@@ -267,14 +287,8 @@ def _air_pockets(ctx: Context, act: Part, nodes: list[str]) -> Candidate | None:
     seals' conductances are), sized by the chamber's dead volume V_i (free air 1e-3 … 1 per
     volume of it, as the shared fraction). None when the actuator holds no oil of its own (its
     air already goes per chamber: :func:`_air_volumes`)."""
-    if act.param("air") is None or not _holds_oil(ctx, act):
-        return None
-    vols = act.params("dead_volumes")
-    if len(vols) != len(nodes):
-        return None
-    try:
-        sizes = [max(ctx.value(v), 1e-6) for v in vols]
-    except (KeyError, TypeError, ValueError):
+    sizes = _chamber_oil(ctx, act, nodes)
+    if act.param("air") is None or sizes is None:
         return None
     try:
         typ, role = ctx.element(R.GAS_VOLUME, Domain.HYDRAULIC)
@@ -283,8 +297,7 @@ def _air_pockets(ctx: Context, act: Part, nodes: list[str]) -> Candidate | None:
     names = [A.unique_name(ctx.net, f"{act.name}_pocket_{i + 1}") for i in range(len(nodes))]
     v0, n_air = role.param("gas_volume"), role.param("exponent")
     # started at 1e-6 of the dead volume: 0.006 % of the chamber's capacitance at 20 bar
-    params = [NewParam(f"{n}.{v0}", 1e-6 * v, (1e-7 * v, AIR_MAX * v), (1e-3 * v, AIR_MAX * v), 0.03 * v, True)
-              for n, v in zip(names, sizes)]
+    params = [_free_air(f"{n}.{v0}", v) for n, v in zip(names, sizes)]
     # the gas law's exponent, between small isothermal bubbles and an adiabatic pocket (a companion)
     params += [NewParam(f"{n}.{n_air}", 1.2, (1.0, 1.4), (1.0, 1.4), 1.2, primary=False, ref=1.2, limits=True)
                for n in names]
@@ -319,18 +332,16 @@ def _dissolving_air(ctx: Context, act: Part, nodes: list[str]) -> Candidate | No
     30 s, 5 s and 150 s; a fit that ends at τ_a's upper bound is air that does not dissolve in
     the record, the static law's. None without chamber volumes, when the lines hold all the oil (a motor's
     air then goes into volumes on its nodes: :func:`_air_volumes`) or without a library type."""
-    vols = act.params("dead_volumes")
-    if len(vols) != len(nodes) or not _holds_oil(ctx, act):
+    sizes = _chamber_oil(ctx, act, nodes)
+    if sizes is None:
         return None
     try:
-        sizes = [max(ctx.value(v), 1e-6) for v in vols]
         typ, role = ctx.element(R.DISSOLVING_AIR, Domain.HYDRAULIC)
-    except (KeyError, TypeError, ValueError):
+    except KeyError:
         return None
     names = [A.unique_name(ctx.net, f"{act.name}_dissolving_{i + 1}") for i in range(len(nodes))]
     g0, tau = role.param("free_air"), role.param("absorption")
-    params = [NewParam(f"{n}.{g0}", 1e-6 * v, (1e-7 * v, AIR_MAX * v), (1e-3 * v, AIR_MAX * v), 0.03 * v, True)
-              for n, v in zip(names, sizes)]
+    params = [_free_air(f"{n}.{g0}", v) for n, v in zip(names, sizes)]
     params += [NewParam(f"{n}.{tau}", ABSORPTION[0], (0.5, 1000.0), (0.5, 1000.0), ABSORPTION[0], True, primary=False,
                         shapes=ABSORPTION[1:]) for n in names]
 

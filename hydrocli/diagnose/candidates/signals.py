@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from .. import augment as A
 from ..locate import POSITIONS, ROTARY, SPEEDS
-from ..measurement import PRESSURE_TAU_BOUNDS, SENSOR_TYPES, sensor_components
+from ..measurement import PRESSURE_TAU_BOUNDS, RESONANT_SENSOR_TYPE, sensor_components
 from .base import Candidate, Context, Family, NewParam, Skipped
 
 
@@ -125,7 +125,7 @@ def _ringing_pressure(ctx: Context, sensors: list[str]) -> Candidate:
 
     def build(net, params=params):
         for s in sensors:
-            net = A.set_type(net, s, SENSOR_TYPES[1])
+            net = A.set_type(net, s, RESONANT_SENSOR_TYPE)
         return A.free_new(net, params)
 
     def rings(est: dict[str, float], names=tuple(sensors)) -> str | None:
