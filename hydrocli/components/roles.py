@@ -16,7 +16,9 @@ role               slots
 actuator           ports chamber_a, chamber_b, motion, reference; params size (area or
                    displacement: force or torque per Pa), displacements (every area or
                    displacement, within manufacturing tolerance), dead_volumes (each chamber's
-                   volume at the reference position: dead volume and lines), bulk_modulus (of the oil in
+                   volume at the reference position: dead volume and lines), swept (the area or
+                   displacement by which each chamber's volume grows with travel, chamber_a's
+                   first; none for a motor, whose chambers keep their volume), bulk_modulus (of the oil in
                    the chambers), internal_leakage / external_leakage
                    (laminar conductances, 0 = none), air (free-air fraction), stop_min,
                    stop_max, stop_stiffness, stop_damping
@@ -45,8 +47,10 @@ end_cushion        ports chamber, line, motion, reference; params open_flow (the
 relief             ports inlet, outlet; params flow (the flow coefficient fully open, q = ξ·C_V·√Δp),
                    cracking (the pressure where it starts to open), override (the pressure rise from
                    cracking to full opening), smoothing (of the opening's corners, a share of it)
-dissolving_air     ports node; params free_air (its volume at 1 bar when the record starts), absorption
-                   and release (time constants), oil_volume, solubility, saturation (Henry's law)
+dissolving_air     ports node (and motion, reference in a chamber whose volume follows them); params
+                   free_air (its volume at 1 bar when the record starts), absorption and release
+                   (time constants), oil_volume, solubility, saturation (Henry's law), swept (the
+                   chamber's growth per unit of travel)
 band_restriction   ports a, b, motion, reference; params conductance (laminar, inside the band),
                    band_start, band_end (positions), edge (width of the band's edges)
 weight             ports node; params weight (a gravity load's force or moment), hanging (a

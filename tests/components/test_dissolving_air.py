@@ -59,3 +59,29 @@ components:
     assert G[-1] == pytest.approx(G_eq, rel=1e-3)
     t = tr.t
     assert G[np.searchsorted(t, 0.2)] == pytest.approx(G_eq + (G_LOW - G_eq) * np.exp(-1.0), rel=2e-2)
+
+
+@pytest.mark.parametrize("kind,load,state,swept", [("dissolving_air_chamber", "mass", "piston.x", -2e-3),
+                                                    ("dissolving_air_chamber_rotary", "inertia", "piston.theta", 1e-4)])
+@pytest.mark.parametrize("x0", [0.0, 0.02, -0.02])
+def test_in_a_chamber_the_free_air_is_a_share_of_the_oil_the_piston_leaves_there(kind, load, state, swept, x0):
+    """In an actuator's chamber the bubbles travel with the oil: with the rod (vane) held at x₀
+    the chamber holds V(x₀) = V + A·x₀ of oil and G₀·V(x₀)/V of free air, so the closed volume
+    keeps the invariant of the plain element with G₀ scaled by that share (Zhou et al. 2013);
+    the rod only reads the position (it stays put with no force on it)."""
+    p0, share = 2e6, 1.0 + swept * x0 / V
+    mass = "m" if load == "mass" else "J"
+    m, tr, _ = run(f"""
+name: chamber
+components:
+  oil: {{type: volume, ports: {{P: c}}, V: {V}, beta: {BETA}}}
+  air: {{type: {kind}, ports: {{P: c, rod: piston, body: ground}}, G0: {G0}, tau_a: {TAU_A}, V: {V}, A: {swept}}}
+  load: {{type: {load}, ports: {{{'m' if load == 'mass' else 'r'}: piston}}, {mass}: 1.0}}
+""", 6.0, n=601, x0={"c.p": p0, state: x0})
+    assert np.allclose(col(m, tr, state), x0)
+    t, p, s = tr.t, col(m, tr, "c.p"), col(m, tr, "air.s")
+    assert s == pytest.approx(np.exp(-t / TAU_A), rel=1e-5, abs=1e-7)
+    inv = V * p / BETA - G0 * share * s * P_ATM / p
+    assert inv == pytest.approx(inv[0], rel=1e-7, abs=1e-12)
+    m_plain, tr_plain, _ = _closed(p0, G0_=G0 * share)
+    assert p == pytest.approx(col(m_plain, tr_plain, "c.p"), rel=1e-5)

@@ -90,7 +90,7 @@ class Cylinder(Component):
     penalty end stops; a chamber volume reaching zero stops the solver with a hint."""
 
     type = "cylinder"
-    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "rod", "reference": "body"}, size="A_A", displacements=("A_A", "A_B"), dead_volumes=("V_A0", "V_B0"), bulk_modulus="beta", internal_leakage="c_il", external_leakage="c_el", air="air", air_exponent="air_n", air_dissolve="p_dissolve", stop_min="x_min", stop_max="x_max", stop_stiffness="k_stop", stop_damping="c_stop"),)
+    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "rod", "reference": "body"}, size="A_A", displacements=("A_A", "A_B"), swept=("A_A", "A_B"), dead_volumes=("V_A0", "V_B0"), bulk_modulus="beta", internal_leakage="c_il", external_leakage="c_el", air="air", air_exponent="air_n", air_dissolve="p_dissolve", stop_min="x_min", stop_max="x_max", stop_stiffness="k_stop", stop_damping="c_stop"),)
     family = "hydraulic"
     description = "Single-rod cylinder: chamber compressibility, leakage, end stops"
     source = "seed 004 eqs. 4–8; seed 000 eqs. 23–26 (areas, Table 6)"
@@ -119,7 +119,7 @@ class DoubleRodCylinder(Component):
     model uses this form, A_r in eqs. 4–8)."""
 
     type = "cylinder_double_rod"
-    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "rod", "reference": "body"}, size="A", displacements=("A",), dead_volumes=("V_A0", "V_B0"), bulk_modulus="beta", internal_leakage="c_il", external_leakage="c_el", air="air", air_exponent="air_n", air_dissolve="p_dissolve", stop_min="x_min", stop_max="x_max", stop_stiffness="k_stop", stop_damping="c_stop"),)
+    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "rod", "reference": "body"}, size="A", displacements=("A",), swept=("A",), dead_volumes=("V_A0", "V_B0"), bulk_modulus="beta", internal_leakage="c_il", external_leakage="c_el", air="air", air_exponent="air_n", air_dissolve="p_dissolve", stop_min="x_min", stop_max="x_max", stop_stiffness="k_stop", stop_damping="c_stop"),)
     family = "hydraulic"
     description = "Double-rod cylinder with one effective area on both sides"
     source = "seed 004 eqs. 4–8 (A_r)"

@@ -76,7 +76,7 @@ class VaneActuator(Component):
     [θ_min, θ_max] (the cylinder's ``end_stop_force`` in rotary units), off while k_stop = 0."""
 
     type = "vane_actuator"
-    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_v", displacements=("D_v",), dead_volumes=("V_1", "V_2"), bulk_modulus="beta", internal_leakage="R_v", air="air", air_exponent="air_n", air_dissolve="p_dissolve", stop_min="theta_min", stop_max="theta_max", stop_stiffness="k_stop", stop_damping="c_stop"),)
+    roles = (role(RL.ACTUATOR, {"chamber_a": "A", "chamber_b": "B", "motion": "shaft", "reference": "body"}, size="D_v", displacements=("D_v",), swept=("D_v",), dead_volumes=("V_1", "V_2"), bulk_modulus="beta", internal_leakage="R_v", air="air", air_exponent="air_n", air_dissolve="p_dissolve", stop_min="theta_min", stop_max="theta_max", stop_stiffness="k_stop", stop_damping="c_stop"),)
     family = "hydraulic"
     description = "Rotary vane actuator with cross-port leakage and chamber compressibility"
     source = "seed 001 eqs. 9–10, 12–13, 20"
