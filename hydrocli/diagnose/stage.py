@@ -161,7 +161,7 @@ def context_of(su: Setup, net: Netlist, free: set[str], model: Model) -> Context
     held, _ = travel.ends(model, su.validate)
     recorded = {s: (min(r[0], held[s][0]), max(r[1], held[s][1])) if s in held else r for s, r in ranges.items()}
     return Context(net, free, ranges, locate.output_quantities(model), su.inputs_start, censored,
-                   recorded_range=recorded)
+                   recorded_range=recorded, drawn=su.net)
 
 
 def fmt_esr(table: dict) -> str:

@@ -26,13 +26,15 @@ def pocket(tmp_path_factory):
     return net, model, cand, cands
 
 
-def _dp_dt(model, p_vec, pressure):
+def _dp_dt(model, p_vec, pressure, position=None):
     """Chamber pressure derivatives (dp1/dt, dp2/dt) at rest, with a valve command
-    feeding chamber 1, both chambers at ``pressure``."""
+    feeding chamber 1, both chambers at ``pressure`` (the piston at ``position``)."""
     x = np.array([s.initial for s in model.states], dtype=float)
     for i, s in enumerate(model.state_names):
         if s in ("chamber_1.p", "chamber_2.p"):
             x[i] = pressure
+        if s == "piston.x" and position is not None:
+            x[i] = position
     u = np.zeros(len(model.input_names))
     for i, n in enumerate(model.input_names):
         if n == "u":
@@ -103,7 +105,9 @@ def test_air_that_dissolves_during_the_record_starts_at_no_effect_and_adds_its_g
     off; the absorption time constant a companion started at 30 s, 5 s and 150 s). At its
     start the chamber rates are the machine's to 10⁻⁴; with G₀ = 5 % of V_A0 in chamber A at
     the record's start (s = 1, dissolving: Ġ = −G₀/τ_a) the continuity of oil and gas gives
-    (C_oil + G₀·p_atm/p²)·ṗ_A = C_oil·ṗ_A,off − p_atm·G₀/(τ_a·p) (Zhou et al. 2013)."""
+    (C_oil + G·p_atm/p²)·ṗ_A = C_oil·ṗ_A,off − p_atm·G/(τ_a·p) (Zhou et al. 2013), where the
+    chamber's free air G = G₀·V_A(x)/V_A0 is a share of its oil, V_A(x) = V_A0 + A·x (the
+    bubbles travel with the oil), and chamber B, shrinking, keeps none of chamber A's."""
     net, model, _, cands = pocket
     cand = next(c for c in cands if c.variant == "dissolving")
     amounts = [p for p in cand.params if p.primary]
@@ -118,11 +122,32 @@ def test_air_that_dissolves_during_the_record_starts_at_no_effect_and_adds_its_g
     V_A0 = model.param_vector()[model.param_index("cylinder.V_A0")]
     beta = model.param_vector()[model.param_index("cylinder.beta")]
     A_A = model.param_vector()[model.param_index("cylinder.A")]
-    x = next(s.initial for s in model.states if s.name == "piston.x")
-    C_oil = (V_A0 + A_A * x) / beta
     G0, tau, pres = 0.05 * V_A0, 10.0, 2e6
     p_on = aug.param_vector({a_g: G0, a_t: tau, b_g: 1e-30})
     p_off = aug.param_vector({a_g: 1e-30, b_g: 1e-30})
-    (a1, b1), (a0, b0) = _dp_dt(aug, p_on, pres), _dp_dt(aug, p_off, pres)
-    assert a1 == pytest.approx((C_oil * a0 - P0 * G0 / (tau * pres)) / (C_oil + G0 * P0 / pres ** 2), rel=1e-6)
-    assert b1 == pytest.approx(b0, rel=1e-9)
+    for x in (0.0, 0.07, -0.05):
+        C_oil = (V_A0 + A_A * x) / beta
+        G = G0 * (V_A0 + A_A * x) / V_A0
+        (a1, b1), (a0, b0) = _dp_dt(aug, p_on, pres, x), _dp_dt(aug, p_off, pres, x)
+        assert a1 == pytest.approx((C_oil * a0 - P0 * G / (tau * pres)) / (C_oil + G * P0 / pres ** 2), rel=1e-6)
+        assert b1 == pytest.approx(b0, rel=1e-9)
+
+
+def test_dissolving_air_takes_the_chambers_oil_from_the_drawing_not_from_a_grown_fit(pocket):
+    """A base fit without the air grows the chamber volumes to stand in for it (dev EHA seed
+    137: ×2.8, ×2.1); the dissolving law's share of air follows the chamber's oil as DRAWN,
+    or the fit can shrink the actuator's volume until the recorded stroke empties a chamber."""
+    net, model, _, _ = pocket
+    from hydrocli.diagnose import augment as A
+    grown = A.set_values(net, {"cylinder.V_A0": 3 * 2.11e-4, "cylinder.V_B0": 2 * 6.75e-4})
+    ctx = Context(grown, set(model.free_params), {"piston": (0.04, 0.2)}, {}, drawn=net)
+    cand = next(c for c in catalogue(ctx)[0] if c.effect == "entrained_air" and c.variant == "dissolving")
+    built = cand.build(grown)
+    elements = [built.components[p.name.rpartition(".")[0]] for p in cand.params if p.primary]
+    assert [e.params["V"].value for e in elements] == pytest.approx([2.11e-4, 6.75e-4])
+    assert [e.params["A"].value for e in elements] == pytest.approx([2.0994e-3, -2.0994e-3])
+    # without a drawing the current volumes stand in
+    ctx = Context(grown, set(model.free_params), {"piston": (0.04, 0.2)}, {})
+    cand = next(c for c in catalogue(ctx)[0] if c.effect == "entrained_air" and c.variant == "dissolving")
+    built = cand.build(grown)
+    assert built.components[cand.params[0].name.rpartition(".")[0]].params["V"].value == pytest.approx(3 * 2.11e-4)

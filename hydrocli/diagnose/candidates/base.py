@@ -127,6 +127,9 @@ class Context:
     recorded_range: dict[str, tuple[float, float]] = field(default_factory=dict)  # node → (min, max) m over
                                                             # every recording, training and held-out: a stop
                                                             # the training never pressed is withdrawn beyond it
+    drawn: Netlist | None = None                            # the machine as drawn (the file's values): what a
+                                                            # law takes a geometry from that the base fit may
+                                                            # have bent to stand in for the law itself
 
     def parts(self, role: str) -> list["Part"]:
         """Every component of the machine that offers ``role``, in file order."""
@@ -189,6 +192,13 @@ class Context:
         except KeyError:
             return None
         return node, ref, rng, typ, r
+
+    def drawn_value(self, name: str) -> float:
+        """The file's value of model parameter ``name`` (the current one when no drawing is known)."""
+        if self.drawn is None:
+            return self.value(name)
+        comp, _, p = name.rpartition(".")
+        return float(self.drawn.components[comp].params[p].value)
 
     def on_node(self, node: str) -> list[tuple[str, str]]:
         return self.net.nodes().get(node, [])

@@ -325,11 +325,16 @@ ABSORPTION = (30.0, 5.0, 150.0)   # s: the absorption time constants the fit sta
 
 def _dissolving_air(ctx: Context, act: Part, nodes: list[str]) -> Candidate | None:
     """Free air that goes back into solution DURING the record (oil that stood aerated): on
-    each chamber node a ``dissolving_air`` element (:class:`~hydrocli.components.hydraulic.
-    dissolving_air.DissolvingAir`), its free air G a state starting at G₀ and relaxing to
-    Henry's equilibrium, slowly (τ_a) as it dissolves above the saturation pressure, fast
-    (0.2 s) as it comes out below it; isothermal gas, capacitance G·p_atm/p² and the volume
-    the dissolving gas leaves, p_atm·Ġ/p (Zhou, Vacca & Manhartsgruber 2013).
+    each chamber node a ``dissolving_air`` element whose chamber follows the actuator's travel
+    (:class:`~hydrocli.components.hydraulic.dissolving_air.ChamberDissolvingAir`), its free air
+    a state starting at G₀ and relaxing to Henry's equilibrium, slowly (τ_a) as it dissolves
+    above the saturation pressure, fast (0.2 s) as it comes out below it; isothermal gas,
+    capacitance G·p_atm/p² and the volume the dissolving gas leaves, p_atm·Ġ/p (Zhou, Vacca &
+    Manhartsgruber 2013). Entrained bubbles travel with the oil, so the free air is a share of
+    the chamber's oil, G ∝ V(x) = V_i + A_i·x (the role's ``swept`` areas, chamber B's
+    negative; none for a motor, whose chambers keep their volume): a fixed amount per chamber
+    (the pocket's law) over-softens a chamber the piston has emptied (EHA held-out seed 146:
+    the fixed-amount law's fit stalled at ΔBIC −478 beside the static fraction's −6530).
 
     What no fixed air fraction, hose or mount has is the DRIFT: the chamber stiffens over the
     record, and each record starts soft again. A fixed compliance fits the middle of the record
@@ -338,14 +343,24 @@ def _dissolving_air(ctx: Context, act: Part, nodes: list[str]) -> Candidate | No
     dead volume: 10⁻³ … 1 of it at 1 bar, as the shared fraction), τ_a a companion started at
     30 s, 5 s and 150 s; a fit that ends at τ_a's upper bound is air that does not dissolve in
     the record, the static law's. None without chamber volumes, when the lines hold all the oil (a motor's
-    air then goes into volumes on its nodes: :func:`_air_volumes`) or without a library type."""
+    air then goes into volumes on its nodes: :func:`_air_volumes`), without the actuator's
+    motion and reference, or without a library type."""
     sizes = _chamber_oil(ctx, act, nodes)
-    if sizes is None:
+    motion, ref = act.node("motion"), act.node("reference")
+    if sizes is None or motion is None or ref is None:
         return None
     try:
-        typ, role = ctx.element(R.DISSOLVING_AIR, Domain.HYDRAULIC)
-    except KeyError:
+        typ, role = ctx.element(R.DISSOLVING_AIR, ctx.domain(motion), slot="motion")
+        swept = [ctx.value(a) for a in act.params("swept")]
+        # the chambers' oil as drawn: the base fit grows the volumes to stand in for the very air
+        # this law adds (dev EHA seed 137, restrained base: ×2.8 and ×2.1), and a law whose share
+        # of air follows a grown volume leaves the fit free to shrink the actuator's own until
+        # the recorded stroke empties a chamber (its held-out run overran the stroke)
+        oil = [max(ctx.drawn_value(v), 1e-6) for v in act.params("dead_volumes")]
+    except (KeyError, TypeError, ValueError):
         return None
+    swept = (swept * len(nodes))[:len(nodes)] if swept else [0.0] * len(nodes)
+    swept = [a if i == 0 else -a for i, a in enumerate(swept)]     # chamber B shrinks as the piston extends
     names = [A.unique_name(ctx.net, f"{act.name}_dissolving_{i + 1}") for i in range(len(nodes))]
     g0, tau = role.param("free_air"), role.param("absorption")
     params = [_free_air(f"{n}.{g0}", v) for n, v in zip(names, sizes)]
@@ -353,13 +368,14 @@ def _dissolving_air(ctx: Context, act: Part, nodes: list[str]) -> Candidate | No
                         shapes=ABSORPTION[1:]) for n in names]
 
     def build(net):
-        for n, node, v in zip(names, nodes, sizes):
-            net = A.add(net, n, typ, {role.port("node"): node},
-                        {g0: 1e-6 * v, tau: ABSORPTION[0], role.param("oil_volume"): v})
+        for n, node, v, drawn, a in zip(names, nodes, sizes, oil, swept):
+            net = A.add(net, n, typ, {role.port("node"): node, role.port("motion"): motion,
+                                      role.port("reference"): ref},
+                        {g0: 1e-6 * v, tau: ABSORPTION[0], role.param("oil_volume"): drawn, role.param("swept"): a})
         return A.free_new(net, params)
     return Candidate("entrained_air", act.name, params, build, "continuity",
-                     "free air in each chamber going back into solution during the record (its amount a state): "
-                     "the chambers stiffen with time", variant="dissolving")
+                     "free air in each chamber going back into solution during the record (its amount a state, a share "
+                     "of the chamber's oil): the chambers stiffen with time", variant="dissolving")
 
 
 BAND_EDGE = 0.02        # share of the stroke seen over which a band leak's edges open (a seal land crossing a score)
