@@ -167,6 +167,23 @@ def presence(ssr0: float, ssr1: float, k: int, n_eff: float, val0: float, val1: 
     return dbic, gain, need_, reasons
 
 
+def idle_elements(params, est: dict[str, float]) -> set[str]:
+    """The candidate's added elements the fit left "off": every primary parameter of the element
+    (``element.param``) outside its plausible range. Their companions shape nothing the data
+    see — where a hose's volume sits along it when the hose stayed 5 cm long — so a companion of
+    one that ends on a bound has not been pushed there: a hose on one line only (the other
+    line's left at its start) is a finding, not a failed fit. Position-like primaries (a
+    stop's, judged on the positions recorded) do not take part."""
+    seen, on = set(), set()
+    for p in params:
+        if p.primary and not p.scale:
+            element = p.name.rpartition(".")[0]
+            seen.add(element)
+            if p.plausible[0] <= abs(est[p.name] - p.ref) <= p.plausible[1]:
+                on.add(element)
+    return seen - on
+
+
 def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: float, noise: float,
           later: bool = False, first_gain: float | None = None, ceiling: float | None = None) -> dict:
     """Rules 1–3 for a candidate fitted from a model with validation ESR ``val0`` (summed, %) to
@@ -181,6 +198,7 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
     se = conditional_stderr(fitres["names"], fitres["stderr"], fitres.get("correlation"),
                             {p.name for p in cand.params if not p.primary})
     plausible_any, engaged, imprecise, pushed, resolved = False, [], [], [], False
+    idle = idle_elements(cand.params, est)
     for p in cand.params:
         v, s = est[p.name], se[p.name]
         if p.primary and p.reach and not p.reach[0] <= v <= p.reach[1]:
@@ -190,10 +208,12 @@ def judge(cand, fitres: dict, ssr0: float, n_eff: float, val0: float, val1: floa
         size = abs(v - p.ref)
         inside = p.plausible[0] <= (v if p.scale else size) <= p.plausible[1]
         plausible_any |= inside and p.primary
-        if at_bound and inside and not p.limits and (p.primary or size > 1e-3 * (p.bounds[1] - p.bounds[0])):
+        unused = not p.primary and p.name.rpartition(".")[0] in idle
+        if at_bound and inside and not p.limits and not unused and (p.primary or size > 1e-3 * (p.bounds[1] - p.bounds[0])):
             # (a companion left at its "off" value is unused, not pushed: a linear rod–load
             # link needs no joint friction; one whose bound is its law's limit has found the
-            # limiting law: a supply line laminar over all its drops, held-out seed 64's lift)
+            # limiting law: a supply line laminar over all its drops, held-out seed 64's lift;
+            # nor is one of an element the fit left "off": :func:`idle_elements`)
             pushed.append(f"{p.name} ended at a bound ({v:.3g})")
         dev = p.scale or size
         if p.primary and inside and np.isfinite(s) and dev > 0 and s / dev > MAX_REL_SE:

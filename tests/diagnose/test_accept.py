@@ -221,3 +221,28 @@ def test_the_round_passes_a_specific_gain_and_says_so():
     assert [c.effect for _, c, _ in out] == ["entrained_air"]
     assert judged[air.key]["passed"] and judged[air.key]["specific_over"] == 0.05
     assert not judged[mount.key]["passed"] and not judged[link.key]["passed"]
+
+
+def test_a_companion_of_an_element_left_off_is_unused_not_pushed():
+    """Hoses on both work lines, the fit lengthening only A's (a hose on one side): B's stays at
+    5 cm, below the 0.2 m a line effect starts at, so where its volume sits along it (its
+    ``split``) shapes nothing the data see and ending on that bound is no push (held-out EHA,
+    seed 146: a one-sided hose refused only for 'valve_line_B.split ended at a bound'). The
+    same bound on the hose the fit DID lengthen is still a push."""
+    from hydrocli.diagnose.candidates.circuit import SPLIT
+
+    def cand():
+        return Candidate("line_dynamics", "valve", [
+            NewParam(f"{x}.{q}", 0.05 if q == "l" else 0.5, (0.01, 20.0) if q == "l" else SPLIT,
+                     (0.2, 20.0) if q == "l" else SPLIT, 2.0 if q == "l" else 0.5, q == "l",
+                     primary=q == "l", ref=0.0 if q == "l" else 0.5)
+            for x in ("line_A", "line_B") for q in ("l", "split")], lambda n: n, "continuity", "test")
+    names = ["line_A.l", "line_A.split", "line_B.l", "line_B.split"]
+    assert accept.idle_elements(cand().params, dict(zip(names, [3.0, 0.6, 0.05, SPLIT[1]]))) == {"line_B"}
+    one_sided = {"names": names, "estimates": [3.0, 0.6, 0.05, SPLIT[1]], "stderr": [0.1, 0.05, 0.01, 5.0],
+                 "cost": 0.2}
+    verdict = accept.judge(cand(), one_sided, 1.0, 500, 10.0, 2.0, 0.2)
+    assert verdict["passed"], verdict["reasons"]
+    pushed = dict(one_sided, estimates=[3.0, SPLIT[1], 0.05, 0.5])
+    verdict = accept.judge(cand(), pushed, 1.0, 500, 10.0, 2.0, 0.2)
+    assert not verdict["passed"] and any("line_A.split ended at a bound" in r for r in verdict["reasons"])
