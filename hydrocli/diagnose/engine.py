@@ -581,10 +581,12 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                                   "screening from the free base")
                     rnd, drawn = None, rnd.rows
             if rnd is None:
+                # the readings of a grown-volume finding on trial (from the restrained round), or
+                # of the one-sided volume this stage's fit still shows: fitted whatever they screen
+                readings = _readings(accepted) if drawn is not None else base_findings.volume_readings(su, b, stage)
                 rnd = round_step(su, stage, accepted, round_, st, pool, b.located, progress,
-                                 withdrawn=frozenset(w["key"] for w in withdrawn),
-                                 readings=_readings(accepted) if drawn is not None else frozenset(),
-                                 must_fit=lambda: drawn is not None or base_findings.volumes_to_name(su, b, stage))
+                                 withdrawn=frozenset(w["key"] for w in withdrawn), readings=readings,
+                                 must_fit=lambda: drawn is not None or bool(readings))
                 rows.extend(rnd.rows)
                 if drawn is not None:
                     accepted = _name_grown(accepted, drawn, rnd.rows, progress)

@@ -200,3 +200,20 @@ def test_the_free_base_round_fits_the_readings_and_names_the_finding_from_both(m
     out = engine._name_grown([{"effect": "sensor_lag"}, excess], ["drawn rows"], ["on-top rows"], None)
     assert [a["effect"] for a in out] == ["sensor_lag", "line_dynamics"] and calls == [(["drawn rows"], ["on-top rows"])]
     assert engine._readings([{"effect": "sensor_lag"}, excess]) == {"entrained_air", "line_dynamics"}
+
+
+def test_on_top_of_a_one_sided_volume_the_decisively_stronger_reading_names_it():
+    """On top of the grown volume each reading adds what a constant compliance lacks: when both
+    improve, the one decisively stronger (ΔBIC more than 10 lower, Kass & Raftery's "very
+    strong") names the finding (dev EHA pocket of air in chamber A, seed 136: air −1131, a hose
+    −58, the default name a hose). Within the margin the default stands; from the drawn
+    volumes only a reading that improves against one that does not renames."""
+    undrawn = {"effect": "line_dynamics", "component": "cylinder", "finding": "undrawn_volume",
+               "alternatives": ["entrained_air"], "description": "d"}
+    on_top = base_findings.ON_TOP
+    assert base_findings.labelled(undrawn, _rows(-1131.0, -58.0), basis=on_top)["effect"] == "entrained_air"
+    assert base_findings.labelled(undrawn, _rows(-64.0, -58.0), basis=on_top)["effect"] == "line_dynamics"
+    assert base_findings.labelled(undrawn, _rows(-58.0, -1131.0), basis=on_top)["effect"] == "line_dynamics"
+    assert base_findings.labelled(undrawn, _rows(-1131.0, -58.0))["effect"] == "line_dynamics"   # from the drawing
+    # given on top of the drawn rows' basis (the restrained round), the same rule decides there
+    assert base_findings.labelled(undrawn, [], on_top=_rows(-1131.0, -58.0))["effect"] == "entrained_air"

@@ -120,3 +120,9 @@ def test_volumes_to_name_asks_the_late_rule_on_the_round_s_model(monkeypatch):
     base = SimpleNamespace(p=None)
     assert base_findings.volumes_to_name(None, SimpleNamespace(judged=judged((6.1e-4, 6.6e-4)), stage=base), base)
     assert not base_findings.volumes_to_name(None, SimpleNamespace(judged=judged((2.1e-4, 6.1e-4)), stage=base), base)
+    # the round fits both readings of the one-sided volume whatever they screen (a hose on that
+    # line, air trapped in that chamber): the finding is named by their fits, not by default
+    grown = SimpleNamespace(judged=judged((6.1e-4, 6.6e-4)), stage=base)
+    assert base_findings.volume_readings(None, grown, base) == {"line_dynamics", "entrained_air"}
+    assert base_findings.volume_readings(None, SimpleNamespace(judged=judged((2.1e-4, 6.1e-4)), stage=base),
+                                         base) == frozenset()
