@@ -95,18 +95,11 @@ def late_findings(su: Setup, b: Baseline, final: Stage, accepted: list[dict], pr
     return out
 
 
-def volumes_to_name(su: Setup, b: Baseline, stage: Stage) -> bool:
-    """Does ``stage``'s fit show chamber volume the drawing leaves out on one side
-    (:func:`late_findings` would list it)? Then a round from ``stage`` must be fitted even when
-    no effect could pass on the held-out data (:func:`accept.within_reach`): its fits of the
-    finding's readings (air, a hose) name it (:func:`labelled`)."""
-    return bool(volume_readings(su, b, stage))
-
-
 def volume_readings(su: Setup, b: Baseline, stage: Stage) -> frozenset:
     """The readings (a hose on that line, air trapped in that chamber) of the one-sided chamber
     volume ``stage``'s fit shows (:func:`late_findings` would list it), empty when it shows
-    none. A round from ``stage`` fits each of them whatever it screens (``shortlist``'s
+    none. A round from ``stage`` is then fitted even when no effect could pass on the held-out
+    data (:func:`accept.within_reach`), and fits each reading whatever it screens (``shortlist``'s
     ``readings``): the grown volume already holds most of what either does, so neither may
     screen among the best, and a finding whose readings were not both fitted keeps its default
     name unexamined (dev EHA, a pocket of air in chamber A, seed 136: V_A0 grown, the held-out

@@ -106,7 +106,7 @@ def test_a_round_that_must_name_a_grown_volume_is_fitted_at_the_floor(no_candida
     assert engine.round_step(su, stage, [], 0, Settings(), None, {}, must_fit=lambda: False).stopped is not None
 
 
-def test_volumes_to_name_asks_the_late_rule_on_the_round_s_model(monkeypatch):
+def test_volume_readings_ask_the_late_rule_on_the_round_s_model(monkeypatch):
     from hydrocli.diagnose import base_findings, findings
     vols = ("cylinder.V_A0", "cylinder.V_B0")
 
@@ -118,8 +118,6 @@ def test_volumes_to_name_asks_the_late_rule_on_the_round_s_model(monkeypatch):
     def judged(values):
         return [{"name": n, "value": v, "initial": v0, "stderr": 1e-6} for n, v, v0 in zip(vols, values, (2e-4, 6e-4))]
     base = SimpleNamespace(p=None)
-    assert base_findings.volumes_to_name(None, SimpleNamespace(judged=judged((6.1e-4, 6.6e-4)), stage=base), base)
-    assert not base_findings.volumes_to_name(None, SimpleNamespace(judged=judged((2.1e-4, 6.1e-4)), stage=base), base)
     # the round fits both readings of the one-sided volume whatever they screen (a hose on that
     # line, air trapped in that chamber): the finding is named by their fits, not by default
     grown = SimpleNamespace(judged=judged((6.1e-4, 6.6e-4)), stage=base)

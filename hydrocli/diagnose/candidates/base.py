@@ -195,17 +195,19 @@ class Context:
 
     def drawn_value(self, name: str) -> float:
         """The file's value of model parameter ``name`` (the current one when no drawing is known)."""
-        if self.drawn is None:
-            return self.value(name)
-        comp, _, p = name.rpartition(".")
-        return float(self.drawn.components[comp].params[p].value)
+        return _value_in(self.net if self.drawn is None else self.drawn, name)
 
     def on_node(self, node: str) -> list[tuple[str, str]]:
         return self.net.nodes().get(node, [])
 
     def value(self, name: str) -> float:
-        comp, _, p = name.rpartition(".")
-        return float(self.net.components[comp].params[p].value)
+        return _value_in(self.net, name)
+
+
+def _value_in(net: Netlist, name: str) -> float:
+    """Model parameter ``name`` (``component.param``) as ``net`` sets it, SI."""
+    comp, _, p = name.rpartition(".")
+    return float(net.components[comp].params[p].value)
 
 
 @dataclass(frozen=True)
