@@ -62,3 +62,43 @@ def test_screening_names_the_missing_term_of_an_equation_error(rng):
     pressure = stats.screen(e, p, base)
     assert coulomb["dr2"] > 0.95 and abs(coulomb["t"][0]) > 50
     assert pressure["dr2"] < 0.05
+
+
+def test_held_out_esr_split_into_blocks_adds_up_to_the_esr_table(rng):
+    """residuals.esr_blocks: the blocks of two experiments (one masked in part, one that does
+    not measure an output) add up to esr_table's summed ESR, and a model error confined to one
+    second of the record lands in that second's block."""
+    from types import SimpleNamespace
+
+    from hydrocli.diagnose import residuals
+    from hydrocli.experiments.experiment import Experiment
+
+    t = np.arange(0.0, 10.0, 1e-3)
+    y1, y2 = np.sin(2 * np.pi * 0.3 * t), np.cos(2 * np.pi * 0.7 * t) + 0.5
+    e1 = Experiment("a", "a.csv", None, t, measured={"P1": y1, "v": y2}, mask={"v": t < 7.5})
+    e2 = Experiment("b", "b.csv", None, t, measured={"P1": y2})
+    model = SimpleNamespace(output_names=["P1", "v"])
+    err = np.where((t >= 4.0) & (t < 5.0), 0.05, 0.0)
+    Ys = [np.column_stack([y1 + 0.01 * rng.standard_normal(t.size) + err, y2 + 0.02 * rng.standard_normal(t.size)]),
+          np.column_stack([y2 + 0.01 * rng.standard_normal(t.size), np.zeros(t.size)])]
+    blocks = residuals.esr_blocks(model, [e1, e2], Ys, ["P1", "v"])
+    assert blocks.size == 20
+    assert np.isclose(blocks.sum(), residuals.total(residuals.esr_table(model, [e1, e2], Ys, ["P1", "v"])), rtol=1e-10)
+    assert int(np.argmax(blocks[:10])) == 4
+
+
+def test_paired_block_t_is_the_mean_gain_over_its_standard_error(rng):
+    """stats.paired_gain_t: with independent block gains (no lag-1 covariance is counted when it
+    is negative) t = d̄/(s/√B), s the population spread — the Diebold–Mariano statistic; a gain
+    of the same total confined to one block is not significant, one spread over every block is."""
+    ref = 1.0 + 0.1 * rng.random(30)
+    d = np.tile([0.02, -0.02], 15) + 0.004
+    t = stats.paired_gain_t(ref, ref - d)
+    c = d - d.mean()
+    assert np.isclose(t, d.mean() / np.sqrt(np.mean(c * c) / 30))   # lag-1 covariance < 0: not added
+    spread = np.full(30, 0.004) + 0.001 * rng.standard_normal(30)
+    one = np.zeros(30)
+    one[7] = spread.sum()
+    assert stats.paired_gain_t(ref, ref - spread) > 10.0
+    assert stats.paired_gain_t(ref, ref - one) < 1.1
+    assert stats.paired_gain_t(ref[:3], ref[:3] - 1.0) == 0.0
