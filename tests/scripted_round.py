@@ -50,8 +50,7 @@ def run_round(monkeypatch, cands, scores: dict, fit, base_val: float, located: d
     su = SimpleNamespace(train=[], validate=[], outputs=["P1"], noise_total=0.08, noise={"P1": 0.08},
                          machine="m.yaml", model=None)
     stage = SimpleNamespace(net=None, model=SimpleNamespace(param_names=[]), p=np.zeros(0), cost=1.0,
-                            esr_validation={"P1": base_val}, esr_train={"P1": 0.3}, Y_train=[], Y_validation=[],
-                            free=[])
+                            esr_validation={"P1": base_val}, esr_train={"P1": 0.3}, Y_train=[], free=[])
     said = []
     rnd = engine.round_step(su, stage, [], 0, Settings(top=top), None, located or {}, progress=said.append)
     return rnd, asked, said

@@ -97,39 +97,6 @@ def specific_need(val0: float, noise: float, other_gain: float) -> float:
     return max(MIN_REL * max(val0 - noise, 0.0), max(other_gain, 0.0) + SPECIFIC * noise)
 
 
-HELD_OUT_T = 3.5   # the paired block t a held-out gain too small for the band must reach, over the model
-                  # it must beat AND over every other effect's candidate of the round (stats.paired_gain_t):
-                  # a one-sided 0.05 test made for the best of ~36 candidates (Bonferroni, 0.05/36 ≈
-                  # 1.4e-3) on ~30 one-second blocks (Student t, 29 degrees of freedom: 3.3), rounded up
-
-
-def consistent(gain: float, val0: float, noise: float, t: dict) -> bool:
-    """A first effect's held-out gain that is below the noise band but CONSISTENT: it shows in
-    the held-out record block by block, significantly (``HELD_OUT_T``) over the model it must
-    beat, no candidate of another effect fitted in the round does the same unless this one is
-    significantly better than it (``t`` from ``engine._held_out_t``), and it closes ``MIN_REL``
-    of the error above the floor. The band (``LOOK_ELSEWHERE`` of the floor) guards against the
-    best of the catalogue absorbing a misfit that several effects' freedom absorbs alike; the
-    paired test asks that directly, with the record's own noise. A base re-identified to the
-    floor leaves an effect the refitted base absorbs in part (shared EHA recording, a
-    pressure-dependent seal friction: the seal law gains 0.008 % against a band of 0.042 %, every
-    other effect ≤ 0.0006 %)."""
-    if not (t and t.get("base") is not None) or not gain > max(MIN_REL * max(val0 - noise, 0.0), 0.0):
-        return False
-    return t["base"] >= HELD_OUT_T and all(o["t_over"] >= HELD_OUT_T for o in rivals(t))
-
-
-def rivals(t: dict) -> list[dict]:
-    """The other effects' candidates whose own held-out gain shows block by block (paired t over
-    the base ≥ ``HELD_OUT_T``): those a consistent gain must be significantly better than."""
-    return [o for o in t.get("others", []) if o["t_base"] >= HELD_OUT_T]
-
-
-def closest_rival(t: dict) -> dict | None:
-    """The rival (:func:`rivals`) a consistent gain beats by the least, None when none gains."""
-    return min(rivals(t), key=lambda o: o["t_over"], default=None)
-
-
 def other_gain(effect: str, rows) -> float:
     """The largest held-out gain (%) among judged candidate rows of effects other than ``effect``
     (0 when none gained): how much of the misfit freedom unrelated to that effect absorbs."""

@@ -113,7 +113,6 @@ def finish(job: dict) -> dict:
                 "esr_train_each": [residuals.total(residuals.esr_table(model, [e], [Y], job["outputs"]))
                                    for e, Y in zip(job["train"], Ytr)],
                 "esr_validation": residuals.esr_table(model, job["validate"], Yva, job["outputs"]),
-                "esr_validation_blocks": residuals.esr_blocks(model, job["validate"], Yva, job["outputs"]).tolist(),
                 "withdrawn": withdrawn}
     except Exception as exc:
         return {"key": job["key"], "error": f"{type(exc).__name__}: {exc}"}

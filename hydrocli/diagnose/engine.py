@@ -195,8 +195,6 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     before = floor if floor is not None and residuals.total(floor.esr_validation) < residuals.total(
         stage.esr_validation) else stage
     remaining = [c for c in order if scores[c.key]["error"] is None]
-    # the held-out ESR of the model every candidate must beat, block by block (the paired test)
-    ref_blocks = residuals.esr_blocks(before.model, validate, before.Y_validation, outputs)
     fits, base_ref, grad, passing, judged, imprecise, bounded, small = {}, {}, {}, [], {}, [], [], []
     extra = []    # a wave a mechanism asks for: the frictions (creeping), the stops (at_the_ends)
     for wave in itertools.count():   # the shortlist's waves, and those the mechanisms ask for, once each
@@ -250,7 +248,7 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                 small.append((row["delta_bic"], c, fits[c.key]))
         if not later:
             passing += _specific(best, judged, fits, {c.key: base_ref[grad[c.key]][1] for c in best},
-                                 su.noise_total, progress, ref_blocks)
+                                 su.noise_total, progress)
         # the screening is a linearisation at one probe: when none of its picks passes and the
         # held-out error is still far above the noise (the verdict would be an unexplained
         # mismatch), the next effects in its order are fitted before saying so (real Festo rig,
@@ -329,10 +327,6 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
                     **({"held_out_over": over} if over else {}),
                     **({"specific_gain": {"gain": row["validation_gain"], "other": row["specific_over"],
                                           "band": row["noise_band"]}} if "specific_over" in row else {}),
-                    **({"consistent_gain": {"gain": row["validation_gain"], "band": row["noise_band"],
-                                            "t_over_base": row["consistent_gain"]["base"],
-                                            "rival": row["consistent_gain"]["rival"]}}
-                       if "consistent_gain" in row else {}),
                     **({("ended_at_bound" if row.get("bounded") else "below_naming_floor" if row.get("small")
                          else "size_poorly_determined"): row["notes"]} if row.get("notes") else {})}
     out.stage, out.candidate = new, c
@@ -421,56 +415,25 @@ def _judge(c: Candidate, score: dict, f: dict | None, round_: int, ssr0: float, 
     return row, passed
 
 
-def _specific(best: list[Candidate], judged: dict, fits: dict, val0: dict, noise: float, progress,
-              ref_blocks=None) -> list:
+def _specific(best: list[Candidate], judged: dict, fits: dict, val0: dict, noise: float, progress) -> list:
     """The (ΔBIC, candidate, fit) of this wave's first-effect candidates that failed on the
     held-out band alone but whose gain no other effect's comes near (:func:`accept.specific_need`,
     against every candidate of another effect fitted in this round so far); their rows are
-    marked passed, with the band they beat and the other effects' best gain. Every fitted row
-    also gets its paired held-out t statistics (:func:`_held_out_t`)."""
+    marked passed, with the band they beat and the other effects' best gain."""
     out = []
     for c in best:
         row = judged[c.key]
-        if ref_blocks is not None and row.get("validation_gain") is not None:
-            row["held_out_t"] = _held_out_t(c, judged, fits, ref_blocks)
         if not row.get("band_only"):
             continue
         other = accept.other_gain(c.effect, judged.values())
         band = accept.specific_need(val0[c.key], noise, other)
-        gain, t = row["validation_gain"], row.get("held_out_t") or {}
-        if gain > band:
-            row.update(passed=True, band_only=False, reasons=[], noise_band=band, specific_over=other)
-            log(progress, f"  {c.effect} on '{c.component}' gains {gain:.3g} % on the held-out data, "
-                          f"no other effect gained more than {other:.3g} %: a gain specific to it (band {band:.3g} %)")
-        elif accept.consistent(gain, val0[c.key], noise, t):
-            rival = accept.closest_rival(t)
-            row.update(passed=True, band_only=False, reasons=[],
-                       consistent_gain={"base": t["base"], "rival": rival})
-            log(progress, f"  {c.effect} on '{c.component}' gains {gain:.3g} % on the held-out data, below the band "
-                          f"({row['noise_band']:.3g} %) but block by block: paired t {t['base']:.1f} over the base"
-                          + (f", {rival['t_over']:.1f} over {rival['effect']}" if rival else ""))
-        else:
+        if not row["validation_gain"] > band:
             continue
+        row.update(passed=True, band_only=False, reasons=[], noise_band=band, specific_over=other)
         out.append((row["delta_bic"], c, fits[c.key]))
+        log(progress, f"  {c.effect} on '{c.component}' gains {row['validation_gain']:.3g} % on the held-out data, "
+                      f"no other effect gained more than {other:.3g} %: a gain specific to it (band {band:.3g} %)")
     return out
-
-
-def _held_out_t(c: Candidate, judged: dict, fits: dict, ref_blocks) -> dict:
-    """Paired block t statistics of ``c``'s held-out gain (:func:`stats.paired_gain_t`): over
-    the model it must beat (``base``), and for each candidate of ANOTHER effect fitted in this
-    round so far, ``c``'s t over it and its own t over the base (``others``)."""
-    mine = fits[c.key].get("esr_validation_blocks")
-    if mine is None or len(mine) != len(ref_blocks):
-        return {}
-    others = []
-    for k, f in fits.items():
-        row = judged.get(k)
-        theirs = f.get("esr_validation_blocks")
-        if row is None or row.get("effect") == c.effect or theirs is None or len(theirs) != len(mine):
-            continue
-        others.append({"effect": row["effect"], "t_over": stats.paired_gain_t(theirs, mine),
-                       "t_base": stats.paired_gain_t(ref_blocks, theirs)})
-    return {"base": stats.paired_gain_t(ref_blocks, mine), "others": others}
 
 
 def _first_gain(accepted: list[dict]) -> float | None:

@@ -74,38 +74,6 @@ def total(table: dict[str, float]) -> float:
     return float(np.nansum(list(table.values())))
 
 
-BLOCK_S = 1.0   # s: the length of the blocks a held-out ESR is split into (:func:`esr_blocks`)
-
-
-def esr_blocks(model: Model, exps: list[Experiment], Ys: list[np.ndarray], outputs: list[str],
-               block_s: float = BLOCK_S) -> np.ndarray:
-    """The summed ESR of :func:`esr_table` split over consecutive time blocks of ``block_s``
-    (every experiment's blocks in turn): block b holds 100·Σ_{t∈b}(e_t − ē)²/(N·Var y) of each
-    output (ē, N and Var y of the whole masked record, so the blocks of an output add up to its
-    ESR exactly), divided by the number of experiments that measure it, summed over outputs.
-    Two models' block series, differenced, are the paired sample of a Diebold–Mariano test of
-    their held-out accuracy (:func:`stats.paired_gain_t`)."""
-    count = {o: sum(o in e.measured for e in exps) for o in outputs}
-    out = []
-    for e, Y in zip(exps, Ys):
-        t = e.t_out
-        edges = np.arange(t[0], t[-1] + block_s, block_s)
-        which = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, max(len(edges) - 2, 0))
-        blocks = np.zeros(int(which.max()) + 1 if which.size else 0)
-        for o in outputs:
-            if o not in e.measured:
-                continue
-            y, yhat = np.asarray(e.measured[o], float), Y[:, model.output_names.index(o)]
-            ok = used(e, o) & np.isfinite(y) & np.isfinite(yhat)
-            if ok.sum() < 2 or np.var(y[ok]) == 0.0:
-                continue
-            r = np.where(ok, y - yhat, 0.0)
-            d = np.where(ok, r - r[ok].mean(), 0.0)
-            blocks += 100.0 * np.bincount(which, d * d, minlength=blocks.size) / (ok.sum() * np.var(y[ok])) / count[o]
-        out.append(blocks)
-    return np.concatenate(out) if out else np.zeros(0)
-
-
 def residual_series(model: Model, exps: list[Experiment], Ys: list[np.ndarray], outputs: list[str]):
     """{(experiment index, output): ŷ − y} in SI (0 where the experiment masks the output)."""
     out = {}

@@ -109,25 +109,3 @@ def screen(r: np.ndarray, S: np.ndarray, B: np.ndarray | None = None, n_eff: flo
         t = np.full(k, np.nan)
     F = (dr2 / k) / max((1 - dr2) / max(n - k, 1.0), 1e-300)
     return {"dr2": dr2, "coef": coef, "t": t, "F": float(F), "p": float(_st.f.sf(F, k, max(n - k, 1.0)))}
-
-
-def paired_gain_t(reference: np.ndarray, candidate: np.ndarray) -> float:
-    """t statistic of the held-out gain of ``candidate`` over ``reference``, from their ESR
-    split into time blocks (``residuals.esr_blocks``): the blocks' gains d_b = ref_b − cand_b,
-    t = d̄/√(V/B) with the long-run variance V = γ₀ + γ₁⁺ (Bartlett weights at lag 1, a
-    positive lag-1 covariance only: neighbouring blocks share slow model error). The
-    Diebold–Mariano test of equal predictive accuracy (Diebold & Mariano 1995, eq. 4) on block
-    sums: a gain that shows in one stretch of the record, or that comes and goes, is not
-    significant however large its total; a small gain that shows in every stretch is. 0 with
-    fewer than four blocks or no spread."""
-    d = np.asarray(reference, float) - np.asarray(candidate, float)
-    b = d.size
-    if b < 4:
-        return 0.0
-    c = d - d.mean()
-    g0 = float(c @ c) / b
-    g1 = float(c[1:] @ c[:-1]) / b
-    v = g0 + max(g1, 0.0)
-    if not v > 0.0:
-        return 0.0
-    return float(d.mean() / np.sqrt(v / b))

@@ -115,14 +115,6 @@ def console_summary(diag) -> str:
                 lines.append(f"  Its held-out gain ({g['gain']:.3g} %) is smaller than the look-elsewhere margin but "
                              f"specific to it: no other effect fitted gained more than {g['other']:.3g} % "
                              f"(band {g['band']:.3g} %).")
-            if a.get("consistent_gain"):
-                g = a["consistent_gain"]
-                r = g.get("rival")
-                over = (f", {r['t_over']:.1f} over {r['effect'].replace('_', ' ')}, the other effect whose gain shows so"
-                        if r else "; no other effect's gain shows so")
-                lines.append(f"  Its held-out gain ({g['gain']:.3g} %) is smaller than the look-elsewhere margin "
-                             f"({g['band']:.3g} %) but shows block by block through the held-out record: paired "
-                             f"t {g['t_over_base']:.1f} over the base{over}.")
             if a.get("held_out_over"):
                 h = a["held_out_over"]
                 lines.append(f"  {h['effect'].replace('_', ' ').capitalize()} on '{h['component']}' fits the training "

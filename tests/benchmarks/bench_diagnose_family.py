@@ -156,7 +156,7 @@ def _candidate_rows(data: dict) -> list[dict]:
     """Every fitted candidate's acceptance figures and fitted values (dev study of acceptance rules
     offline; the parameter names tell the forms of one effect apart)."""
     keep = ("effect", "component", "round", "passed", "reasons", "delta_bic", "validation_gain",
-            "noise_band", "esr_validation_after", "screening_explained", "held_out_t", "band_only")
+            "noise_band", "esr_validation_after", "screening_explained")
     return [{**{k: r.get(k) for k in keep}, "parameters": {q["name"]: q.get("value") for q in r.get("parameters") or []}}
             for r in data.get("ranking", []) if r.get("fitted")]
 
