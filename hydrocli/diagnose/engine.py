@@ -159,14 +159,15 @@ def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: S
     free base when ``stage`` is the restrained one (:mod:`.restrain`). ``withdrawn``: keys of
     candidates accepted earlier and withdrawn since (:func:`backward`), not offered again.
     ``readings``: effects fitted whatever they screen (:func:`shortlist`). The round ends before
-    screening when no effect can pass (:func:`accept.within_reach`), unless ``must_fit()``
-    (asked only then): its fits have to name a base-fit finding all the same."""
+    screening when no effect can pass (:func:`accept.within_reach`, from ``stage``'s held-out
+    error: a restrained base's too), unless ``must_fit()`` (asked only then): its fits have to
+    name a base-fit finding all the same."""
     train, validate, outputs = su.train, su.validate, su.outputs
     cands, skipped = catalogue(context(su, stage, located))
     out = Round([], skipped=[{"effect": s.effect, "reason": s.reason} for s in skipped])
     first = _first_gain(accepted)
     later, val = first is not None, residuals.total(stage.esr_validation)
-    if (floor is None and not (st.screen_always and round_ == 0)
+    if (not (st.screen_always and round_ == 0)
             and not accept.within_reach(val, su.noise_total, later, first) and not must_fit()):
         need = accept.need(val, su.noise_total, later=later, first_gain=first)
         log(progress, f"  validation ESR {val:.3g} % is {val - su.noise_total:+.3g} % from the noise floor "
@@ -578,7 +579,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                 rows.extend(rnd.rows)
                 if rnd.accepted is None:
                     log(progress, "  nothing beats the free base with the implausible values restrained: "
-                                  "screening from the free base")
+                                  "the round runs from the free base")
                     rnd, drawn = None, rnd.rows
             if rnd is None:
                 # the readings of a grown-volume finding on trial (from the restrained round), or
@@ -586,7 +587,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                 readings = _readings(accepted) if drawn is not None else base_findings.volume_readings(su, b, stage)
                 rnd = round_step(su, stage, accepted, round_, st, pool, b.located, progress,
                                  withdrawn=frozenset(w["key"] for w in withdrawn), readings=readings,
-                                 must_fit=lambda: drawn is not None or bool(readings))
+                                 must_fit=lambda: bool(readings))
                 rows.extend(rnd.rows)
                 if drawn is not None:
                     accepted = _name_grown(accepted, drawn, rnd.rows, progress)
@@ -643,7 +644,8 @@ def _restrained_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict],
     # the finding's readings (air, a hose) are fitted whatever they screen: the grown volumes
     # leave them nothing to screen for, and base_findings.labelled names the finding by their fits
     readings = _readings(excess)
-    rnd = round_step(su, b.restrained, rest, 0, st, pool, b.located, progress, floor=free, readings=readings)
+    rnd = round_step(su, b.restrained, rest, 0, st, pool, b.located, progress, floor=free, readings=readings,
+                     must_fit=lambda: bool(readings))
     if rnd.accepted is not None and excess:
         log(progress, f"  the chambers' grown volumes are explained by {rnd.accepted['effect']} on "
                       f"'{rnd.accepted['component']}': the volume finding gives way to it")
