@@ -154,21 +154,21 @@ def _bounds(model, res) -> tuple[dict[str, tuple[float, float]], set[str]]:
 # -- step 3 -------------------------------------------------------------------------------
 def round_step(su: Setup, stage: Stage, accepted: list[dict], round_: int, st: Settings, pool,
                located: dict, progress=None, floor: Stage | None = None, withdrawn: frozenset = frozenset(),
-               readings: frozenset = frozenset(), must_fit=lambda: False) -> Round:
+               readings: frozenset = frozenset()) -> Round:
     """One round from ``stage``. ``floor``: a model every candidate must beat as well — the
     free base when ``stage`` is the restrained one (:mod:`.restrain`). ``withdrawn``: keys of
     candidates accepted earlier and withdrawn since (:func:`backward`), not offered again.
-    ``readings``: effects fitted whatever they screen (:func:`shortlist`). The round ends before
-    screening when no effect can pass (:func:`accept.within_reach`, from ``stage``'s held-out
-    error: a restrained base's too), unless ``must_fit()`` (asked only then): its fits have to
-    name a base-fit finding all the same."""
+    ``readings``: effects fitted whatever they screen (:func:`shortlist`), the readings of a
+    grown chamber volume. The round ends before screening when no effect can pass
+    (:func:`accept.within_reach`, from ``stage``'s held-out error: a restrained base's too),
+    unless it has readings to fit: their fits name a base-fit finding all the same."""
     train, validate, outputs = su.train, su.validate, su.outputs
     cands, skipped = catalogue(context(su, stage, located))
     out = Round([], skipped=[{"effect": s.effect, "reason": s.reason} for s in skipped])
     first = _first_gain(accepted)
     later, val = first is not None, residuals.total(stage.esr_validation)
     if (not (st.screen_always and round_ == 0)
-            and not accept.within_reach(val, su.noise_total, later, first) and not must_fit()):
+            and not accept.within_reach(val, su.noise_total, later, first) and not readings):
         need = accept.need(val, su.noise_total, later=later, first_gain=first)
         log(progress, f"  validation ESR {val:.3g} % is {val - su.noise_total:+.3g} % from the noise floor "
                       f"({su.noise_total:.3g} %): no {'further ' if later else ''}effect can gain "
@@ -586,8 +586,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                 # of the one-sided volume this stage's fit still shows: fitted whatever they screen
                 readings = _readings(accepted) if drawn is not None else base_findings.volume_readings(su, b, stage)
                 rnd = round_step(su, stage, accepted, round_, st, pool, b.located, progress,
-                                 withdrawn=frozenset(w["key"] for w in withdrawn), readings=readings,
-                                 must_fit=lambda: bool(readings))
+                                 withdrawn=frozenset(w["key"] for w in withdrawn), readings=readings)
                 rows.extend(rnd.rows)
                 if drawn is not None:
                     accepted = _name_grown(accepted, drawn, rnd.rows, progress)
@@ -644,8 +643,7 @@ def _restrained_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict],
     # the finding's readings (air, a hose) are fitted whatever they screen: the grown volumes
     # leave them nothing to screen for, and base_findings.labelled names the finding by their fits
     readings = _readings(excess)
-    rnd = round_step(su, b.restrained, rest, 0, st, pool, b.located, progress, floor=free, readings=readings,
-                     must_fit=lambda: bool(readings))
+    rnd = round_step(su, b.restrained, rest, 0, st, pool, b.located, progress, floor=free, readings=readings)
     if rnd.accepted is not None and excess:
         log(progress, f"  the chambers' grown volumes are explained by {rnd.accepted['effect']} on "
                       f"'{rnd.accepted['component']}': the volume finding gives way to it")

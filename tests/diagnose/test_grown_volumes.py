@@ -37,9 +37,8 @@ def _round(monkeypatch, accepted_effect):
     seen = {}
 
     def fake_round(su, stage, accepted, round_, st, pool, located, progress=None, floor=None, withdrawn=frozenset(),
-                   readings=frozenset(), must_fit=lambda: False):
-        seen.update(stage=stage, accepted=[a["effect"] for a in accepted], floor=floor, readings=readings,
-                    must_fit=must_fit())
+                   readings=frozenset()):
+        seen.update(stage=stage, accepted=[a["effect"] for a in accepted], floor=floor, readings=readings)
         acc = None if accepted_effect is None else {"effect": accepted_effect, "component": "valve"}
         return engine.Round([], accepted=acc, stage="restrained fit")
     monkeypatch.setattr(engine, "round_step", fake_round)
@@ -65,8 +64,8 @@ def test_the_volume_finding_steps_aside_and_gives_way_to_the_candidate_that_beat
     released = seen.pop("released")
     assert seen.pop("also_from") == "free base"          # its grown volumes are a start too
     # both readings of the grown volumes are fitted, whatever they screen, and at the noise floor too
+    # (round_step stops at the floor only without readings)
     assert seen.pop("readings") == {"entrained_air", "line_dynamics"}
-    assert seen.pop("must_fit") is True
     assert seen == {"stage": "restrained base", "accepted": ["external_leakage"], "floor": "free base"}
     # the volumes and their oil's modulus get the file's bounds back
     assert released == {n: BOUNDS[n] for n in ("vane.V_1", "vane.V_2", "vane.beta")}
@@ -223,11 +222,11 @@ def test_on_top_of_a_one_sided_volume_the_decisively_stronger_reading_names_it()
 
 def test_without_a_grown_volume_the_restrained_round_may_stop_at_the_floor(monkeypatch):
     """A restrained round with no volume finding to name (only a Stribeck value or a line volume
-    restrained) fits nothing it must: round_step's noise-floor stop decides (must_fit False)."""
+    restrained) has no readings to fit: round_step's noise-floor stop decides."""
     seen, _, _, _ = _round(monkeypatch, None)
-    assert seen["must_fit"] is True
+    assert seen["readings"] == {"entrained_air", "line_dynamics"}
     b = SimpleNamespace(restrained="restrained base", stage=SimpleNamespace(model=None), fit=None, grown=frozenset(),
                         located={})
     engine._restrained_round(None, b, "free base", [{"effect": "external_leakage", "component": "vane",
                                                       "source": "base_fit"}], engine.Settings(), None, lambda m: None)
-    assert seen["must_fit"] is False and seen["readings"] == frozenset()
+    assert seen["readings"] == frozenset()

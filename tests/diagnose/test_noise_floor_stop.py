@@ -52,6 +52,9 @@ def test_dev_numbers():
     assert accept.within_reach(0.62, 0.573)    # 8 % above the floor: a first effect may still pass
 
 
+READINGS = frozenset({"entrained_air", "line_dynamics"})   # a grown chamber volume's readings
+
+
 def _setup_stage(val, noise):
     su = SimpleNamespace(train=[], validate=[], outputs=["P1"], noise_total=noise)
     stage = SimpleNamespace(esr_validation={"P1": val})
@@ -94,19 +97,18 @@ def test_round_step_goes_on_when_an_effect_could_still_pass(no_candidates):
     assert engine.round_step(su, stage, [], 0, Settings(), None, {}).stopped is None
 
 
-
 def test_a_restrained_base_at_the_floor_is_not_screened_unless_a_grown_volume_is_to_be_named(no_candidates):
     """From a restrained base (a floor model given) the stop reads the RESTRAINED base's held-out
     error: its candidates' gains are measured from it, so at the floor none can pass (dev lift_cbv
     nulls, seeds 149–151: every base fit put line_A_oil.V at its bound, and the restrained
     round, then the free round, took 320–360 s to fit nothing). Above the floor it runs; with a
-    grown volume's readings to fit (``must_fit``) it runs at the floor too."""
+    grown volume's readings to fit it runs at the floor too."""
     su, at_floor = _setup_stage(0.577, 0.573)
     _, above = _setup_stage(0.8, 0.573)
     assert engine.round_step(su, at_floor, [], 0, Settings(), None, {}, floor=above).stopped is not None
     assert engine.round_step(su, above, [], 0, Settings(), None, {}, floor=at_floor).stopped is None
     assert engine.round_step(su, at_floor, [], 0, Settings(), None, {}, floor=above,
-                             must_fit=lambda: True).stopped is None
+                             readings=READINGS).stopped is None
 
 
 def test_a_round_that_must_name_a_grown_volume_is_fitted_at_the_floor(no_candidates):
@@ -114,8 +116,8 @@ def test_a_round_that_must_name_a_grown_volume_is_fitted_at_the_floor(no_candida
     fit, which then predicts to the noise) is named by the round's fits of its readings (air,
     a hose: base_findings.labelled): that round runs even though no effect can pass."""
     su, stage = _setup_stage(0.577, 0.573)
-    assert engine.round_step(su, stage, [], 0, Settings(), None, {}, must_fit=lambda: True).stopped is None
-    assert engine.round_step(su, stage, [], 0, Settings(), None, {}, must_fit=lambda: False).stopped is not None
+    assert engine.round_step(su, stage, [], 0, Settings(), None, {}, readings=READINGS).stopped is None
+    assert engine.round_step(su, stage, [], 0, Settings(), None, {}, readings=frozenset()).stopped is not None
 
 
 def test_volume_readings_ask_the_late_rule_on_the_round_s_model(monkeypatch):
