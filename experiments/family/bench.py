@@ -46,6 +46,7 @@ class Excitation:
                  setpoint_max: float | None = None):
         rng = np.random.default_rng(seed_seq)
         self.B, self.duration, self.fs, self.preroll = bench, duration, fs, preroll
+        self.setpoint_max = setpoint_max
         lo, hi = bench["setpoint_range"]
         span = hi - lo
         segs, t, x = [], 0.0, bench["x_home"]

@@ -27,3 +27,15 @@ def test_every_experiment_of_an_end_stop_case_drives_to_its_stop(machine, seed):
     for kind in (1, 2):                    # train, validate
         exc = Excitation(mt.bench, [seed, kind], 20.0, FS, PREROLL, smax)
         assert max(s[3] for s in exc.segs) == pytest.approx(smax)
+
+
+def test_a_servo_that_settles_short_of_the_stop_is_driven_further_until_it_touches_it():
+    """EHA dev seed 160, Hunt–Crossley stop: the servo under its load settled 3.6 mm short of
+    a setpoint 4 mm past the stop, so the training recording never touched it (effect ESR 0 on
+    training, 50 % on the held-out record). The closed loop is rerun with the setpoint raised by
+    the shortfall (:meth:`CaseRunner.closed_loop`) until the piston reaches the stop."""
+    from experiments.family.generate import CaseRunner
+    cr = CaseRunner("eha", "end_stop", "hunt_crossley", 160, 20.0)
+    exc, _, _, _, _, sol = cr.closed_loop("train", 1.0)
+    assert exc.setpoint_max > cr.setpoint_max           # the first setpoint was not enough
+    assert sol.y[5].max() >= cr.x_stop                  # the piston is on the stop
