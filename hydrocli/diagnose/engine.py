@@ -33,6 +33,7 @@ from ..netlist.loader import load_doc, load_netlist
 from . import (accept, augment, backward, base_findings, baseline, candidate_fits, design, findings, locate, nuisance,
                ranking, residuals, restrain, restrained, runaway, short_horizon, stats, travel, workers)
 from .candidates import COMPLIANCES, SWITCHING, Candidate, catalogue
+from .clock import StepClock
 from .equations import located_equations
 from .measurement import with_pressure_sensors
 from .ranking import ALTERNATIVE
@@ -562,8 +563,11 @@ def conclude(su: Setup, b: Baseline, final: Stage, accepted: list[dict], rows: l
 def diagnose(machine, train_paths, validate_paths, settings: Settings | None = None, progress=None) -> Diagnosis:
     st = settings or Settings()
     t_start = time.perf_counter()
+    clock = StepClock(last=t_start)
     su, run = follow(prepare(machine, train_paths, validate_paths, st), progress)
+    clock.lap("loading and the measurement model")
     b = baseline_step(su, st, progress, run)
+    clock.lap("base fit" + (" and the restrained base" if b.restrained is not None else ""))
     stage, accepted, rows, skipped, history, ambiguous = b.stage, list(b.found), [], [], [], []
     built, withdrawn = {}, []      # the accepted candidates by key; the effects withdrawn since
     last = []                      # the rows of a round that accepted nothing: fitted on top of the final model
@@ -576,6 +580,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                 # which effect does the implausible value stand for? Tried first; when none
                 # beats the free base, the round runs from the free base as usual
                 rnd, accepted = _restrained_round(su, b, stage, accepted, st, pool, progress)
+                clock.lap("round 1 from the restrained base")
                 rows.extend(rnd.rows)
                 if rnd.accepted is None:
                     log(progress, "  nothing beats the free base with the implausible values restrained: "
@@ -587,11 +592,13 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                 readings = _readings(accepted) if drawn is not None else base_findings.volume_readings(su, b, stage)
                 rnd = round_step(su, stage, accepted, round_, st, pool, b.located, progress,
                                  withdrawn=frozenset(w["key"] for w in withdrawn), readings=readings)
+                clock.lap(f"round {round_ + 1}")
                 rows.extend(rnd.rows)
                 if drawn is not None:
                     accepted = _name_grown(accepted, drawn, rnd.rows, progress)
                 if round_ == 0 and rnd.accepted is None and b.slow_spools:
                     spool, b_spool, acc = _spool_round(su, b, stage, accepted, st, pool, progress)
+                    clock.lap("round 1 from the restrained spools")
                     if spool is not None and spool.accepted is not None:
                         rnd, b, accepted = spool, b_spool, acc
                         rows.extend(rnd.rows)
@@ -607,10 +614,12 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
             history.append(stage)
             stage = rnd.stage
             stage, accepted, out = backward.backward(su, b, stage, accepted, built, st, progress)
+            clock.lap(f"round {round_ + 1}: the earlier effects re-checked")
             withdrawn += out
         short = None      # the short-horizon test's record, when it ran
         if short_horizon.needed(st, accepted, stage.esr_validation, su.noise, b.located):
             entry, new, short = short_horizon.round_(su, stage, b.located, st, pool, progress)
+            clock.lap("short-horizon test")
             if entry is not None:
                 accepted.append(entry)
                 history.append(stage)
@@ -618,7 +627,9 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
     if stage is not b.stage:
         accepted = base_findings.still_found(su, b, stage, accepted, progress)
     accepted = accepted + base_findings.late_findings(su, b, stage, accepted, progress, last)
+    clock.lap("base-fit findings re-checked")
     data = conclude(su, b, stage, accepted, rows, skipped, train_paths, validate_paths, t_start)
+    data["timings"] = clock.report()
     if stopped:
         data["stopped_at_noise_floor"] = stopped
     if short is not None:

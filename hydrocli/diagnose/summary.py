@@ -7,7 +7,7 @@ from pathlib import Path
 
 from ..fileio import json_text
 from ..netlist import yamldoc as Y
-from . import augment
+from . import augment, clock
 from .findings import Z_MIN
 
 
@@ -172,6 +172,8 @@ def console_summary(diag) -> str:
         lines.append("No missing physics found: no candidate improved both BIC and held-out validation ESR beyond "
                      f"the noise band{tail}.")
     lines.append(f"Verdict: {d['verdict']} ({', '.join(d['effects'])}); {d['runtime_s']:.0f} s.")
+    if d.get("timings"):
+        lines.append(clock.line(d["timings"], d["runtime_s"]))
     return "\n".join(lines)
 
 

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import statistics
 import sys
 import time
@@ -133,7 +134,7 @@ def run_case(folder: Path, jobs: int, progress, screen_always: bool = False) -> 
             "gap_closed": gap_closed(before, after, t["noise"]) if err is None else False,
             "gap_closed_mean": gap_closed_mean(before, after, t["noise"]) if err is None else False,
             "resolvable": resolvable(data) if err is None else None,
-            "seconds": wall, "error": err, "candidates": _candidate_rows(data),
+            "seconds": wall, "error": err, "candidates": _candidate_rows(data), "timings": data.get("timings", []),
             "noise_validation": (data.get("tests") or {}).get("noise_esr_validation", {}),
             "n_eff_validation": {o: w.get("n_eff") for o, w in
                                  ((data.get("tests") or {}).get("whiteness") or {}).items()}}
@@ -211,7 +212,32 @@ def aggregate(rows: list[dict]) -> dict:
         "seconds": {"mean": statistics.mean(secs) if secs else None,
                     "median": statistics.median(secs) if secs else None,
                     "max": max(secs) if secs else None, "total": sum(secs)},
+        "seconds_by_step": seconds_by_step(rows),
     }
+
+
+def step_kind(step: str) -> str:
+    """A diagnosis's step (diagnosis.json ``timings``) by kind: every "round N" is a round,
+    every restrained base's round one kind, every re-check of earlier effects one kind."""
+    if step.startswith("base fit"):
+        return "base fit"
+    if step.startswith("round 1 from the restrained"):
+        return "rounds from a restrained base"
+    if step.startswith("round") and "re-checked" in step:
+        return "earlier effects re-checked"
+    if re.fullmatch(r"round \d+", step):
+        return "rounds"
+    return step
+
+
+def seconds_by_step(rows) -> dict[str, float]:
+    """Total wall seconds of every case's steps, by :func:`step_kind`, largest first."""
+    tot: dict[str, float] = {}
+    for r in rows:
+        for t in r.get("timings") or []:
+            k = step_kind(t["step"])
+            tot[k] = tot.get(k, 0.0) + t["seconds"]
+    return dict(sorted(tot.items(), key=lambda kv: -kv[1]))
 
 
 def print_report(agg: dict):
@@ -249,6 +275,11 @@ def print_report(agg: dict):
     if s["mean"] is not None:
         print(f"Time per case: mean {s['mean']:.0f} s, median {s['median']:.0f} s, max {s['max']:.0f} s "
               f"(total {s['total'] / 60:.1f} min); errors: {agg['errors']}")
+    by = agg.get("seconds_by_step") or {}
+    if by:
+        whole = sum(by.values())
+        print("Where the time goes: " + ", ".join(f"{k} {100 * v / whole:.0f} %" for k, v in by.items()
+                                                 if v >= 0.005 * whole))
 
 
 def _fmt_esr(before, after):

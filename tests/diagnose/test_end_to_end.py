@@ -86,6 +86,14 @@ def test_diagnose_names_coulomb_friction_and_improves_validation(case, in_proces
     stop = data["stopped_at_noise_floor"]
     assert stop["round"] == 2 and stop["esr_validation"] < 1.8 * stop["noise_floor"]
     assert all(r["evidence"] for r in data["ranking"])
+    # where the time went: every step that ran, in order, adding up to the whole run
+    steps = [t["step"] for t in data["timings"]]
+    assert steps[0] == "loading and the measurement model" and steps[1].startswith("base fit")
+    assert any(s.startswith("round 1") for s in steps) and "round 2" in steps
+    assert steps[-1] == "base-fit findings re-checked"
+    assert ("restrained" in steps[1]) == ("restrained_base" in data)
+    assert sum(t["seconds"] for t in data["timings"]) == pytest.approx(data["runtime_s"], rel=0.02, abs=0.05)
+    assert console_summary(diag).splitlines()[-1].startswith(f"Time: {data['runtime_s']:.0f} s — ")
     write_json(diag, d / "diagnosis.json")
     write_augmented(diag, d / "augmented.yaml")
     assert json.loads((d / "diagnosis.json").read_text())["verdict"] == "missing_physics"
@@ -143,7 +151,9 @@ def _same(a, b, path="") -> None:
     if isinstance(a, dict):
         assert set(a) == set(b), path
         for k in a:
-            if k != "runtime_s":
+            if k == "timings":     # wall seconds: the same steps, in the same order
+                assert [t["step"] for t in a[k]] == [t["step"] for t in b[k]], path
+            elif k != "runtime_s":
                 _same(a[k], b[k], f"{path}/{k}")
     elif isinstance(a, (list, tuple)):
         assert len(a) == len(b), path

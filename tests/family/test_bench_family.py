@@ -162,3 +162,17 @@ def test_skip_names_results_files_and_a_machine_name_there_is_an_error(tmp_path,
         bench.main(["--data", str(tmp_path), "--skip", "rotary"])
     assert exc.value.code == 2
     assert "not a file: rotary" in capsys.readouterr().err
+
+
+def test_the_time_is_summed_by_kind_of_step_over_the_cases():
+    rows = [_row("entrained_air", "entrained_air"), _row("none", "none")]
+    rows[0]["timings"] = [{"step": "loading and the measurement model", "seconds": 1.0},
+                          {"step": "base fit and the restrained base", "seconds": 9.0},
+                          {"step": "round 1 from the restrained base", "seconds": 40.0},
+                          {"step": "round 1: the earlier effects re-checked", "seconds": 5.0},
+                          {"step": "round 2", "seconds": 30.0}]
+    rows[1]["timings"] = [{"step": "base fit", "seconds": 4.0}, {"step": "round 1", "seconds": 20.0}]
+    by = bench.aggregate(rows)["seconds_by_step"]
+    assert by == {"rounds": 50.0, "rounds from a restrained base": 40.0, "base fit": 13.0,
+                  "earlier effects re-checked": 5.0, "loading and the measurement model": 1.0}
+    assert list(by)[0] == "rounds"                                   # largest first
