@@ -163,7 +163,7 @@ class CaseRunner:
         4 mm past the stop, its effect ESR 0 on training and 50 % on the held-out record): the
         setpoint is raised by the shortfall and the loop run again, at most twice."""
         sp = self.setpoint_max
-        for attempt in range(3):
+        for _ in range(3):
             exc = self.excitation(kind, sp)
             m_cl = _truth(self.mt, self.p, self.effect_obj(s))
             u, Ps, F, sol_cl = closed_loop(m_cl, exc, self.y0(m_cl), self.Kq)

@@ -1,5 +1,5 @@
 """Where a diagnosis's wall time goes: the seconds of each step, in the order they ran
-(``timings`` in diagnosis.json, the summary's last line, the family benchmark's per-step means).
+(``timings`` in diagnosis.json, the console summary's last line, the family benchmark's share of each kind of step).
 
 Issue 10 asks for ≤ 60 s per 30 s recording; the total alone (``runtime_s``) does not say
 which step to make faster. Session 58 measured one case by hand from its progress log (the
@@ -28,6 +28,7 @@ class StepClock:
 
 
 def line(timings: list[dict], total: float) -> str:
-    """"Time: 710 s — base fit 4 s, round 1 (restrained base) 422 s, …" (steps under 0.5 s left out)."""
+    """The console's line, e.g. "Time: 587 s — base fit and the restrained base 10 s, round 1 from
+    the restrained base 301 s, round 1 276 s." (steps under 0.5 s left out)."""
     parts = [f"{t['step']} {t['seconds']:.0f} s" for t in timings if t["seconds"] >= 0.5]
     return f"Time: {total:.0f} s" + (" — " + ", ".join(parts) if parts else "") + "."
