@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .blas import single_threaded
 from .model.builder import build_model
 from .netlist.loader import load_netlist_text
 from .solve.library import compiled
@@ -130,12 +131,16 @@ ATOL_HAND = np.array([1e-5, 1e-5, 1e-3, 1e2, 1e2, 1e-5, 1e-5])
 def _median_time(fn, repeat: int) -> tuple[float, object]:
     """Median CPU time of this process (``time.process_time``) over ``repeat`` calls: on a
     shared, loaded machine wall time mostly measures the other jobs (a 3 ms run is preempted
-    or not), CPU time the work; every solver here is single-threaded Python/C."""
+    or not), CPU time the work; every solver here is single-threaded Python/C.  BLAS runs on
+    one thread while timing: process time also counts OpenBLAS's idle threads spin-waiting
+    after some earlier NumPy call, which added up to 45 % to a 3.7 ms compiled run (measured
+    with ``perf``: ``blas_thread_server`` at 4.5 % of the samples of a loop of such runs)."""
     times, out = [], None
-    for _ in range(repeat):
-        t0 = time.process_time()
-        out = fn()
-        times.append(time.process_time() - t0)
+    with single_threaded():
+        for _ in range(repeat):
+            t0 = time.process_time()
+            out = fn()
+            times.append(time.process_time() - t0)
     return statistics.median(times), out
 
 

@@ -30,3 +30,16 @@ def test_results_match_multithreaded_to_rounding():
     with single_threaded():
         s_one = scipy.linalg.svd(J, compute_uv=False)
     np.testing.assert_allclose(s_one, s_ref, rtol=1e-12)
+
+
+def test_the_benchmark_times_its_runs_with_blas_on_one_thread():
+    """hydro bench's timer measures CPU time of the process, which would also count OpenBLAS's
+    idle threads spin-waiting; it must run what it times with BLAS on one thread."""
+    from hydrocli.bench import _median_time
+
+    before = thread_counts()
+    if not before:
+        pytest.skip("no OpenBLAS found in this process")
+    _, inside = _median_time(thread_counts, 3)
+    assert inside == [1] * len(before)
+    assert thread_counts() == before
