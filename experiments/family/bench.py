@@ -22,21 +22,35 @@ def min_jerk(s):
     return s ** 3 * (10 - 15 * s + 6 * s * s), 30 * s * s * (1 - s) ** 2
 
 
-def reach(segs: list[tuple], setpoint_max: float) -> list[tuple]:
+def reach(segs: list[tuple], setpoint_max: float, duration: float = float("inf"),
+          max_speed: float = float("inf")) -> list[tuple]:
     """Moves (t0, T, from, to) with every target clipped at ``setpoint_max`` and the highest
     move's target set to it: an end-stop case must touch its stop in EVERY experiment, or the
     effect is absent from the training recording and no diagnosis fitted to it can name it
-    (before this, an EHA case's training stayed 16 mm short of the stop)."""
+    (before this, an EHA case's training stayed 16 mm short of the stop).
+
+    The move raised is the highest of those that END inside the recording (``duration``), at
+    a min-jerk peak speed no higher than ``max_speed`` (its duration stretched, the later moves
+    shifted by as much): lift dev seed 162's highest move began 0.64 s before the end of the
+    recording, so the piston was still 7 cm below the stop when it ended (effect ESR 0 in
+    training and held out), whatever the setpoint."""
     segs = [(t0, T, min(a, setpoint_max), min(b, setpoint_max)) for t0, T, a, b in segs]
-    if not segs or max(b for *_, b in segs) >= setpoint_max:
+    if not segs or any(b >= setpoint_max and t0 + T <= duration for t0, T, _, b in segs):
         return segs
-    i = max(range(len(segs)), key=lambda k: segs[k][3])
+
+    def stretched(k):
+        t0, T, a, _ = segs[k]
+        return max(T, 1.875 * abs(setpoint_max - a) / max_speed)
+
+    ends = [k for k in range(len(segs)) if segs[k][0] + stretched(k) <= duration]
+    i = max(ends or range(len(segs)), key=lambda k: segs[k][3])
     t0, T, a, _ = segs[i]
-    segs[i] = (t0, T, a, setpoint_max)
+    T_new = stretched(i)
+    segs[i] = (t0, T_new, a, setpoint_max)
     if i + 1 < len(segs):
         t1, T1, _, b1 = segs[i + 1]
         segs[i + 1] = (t1, T1, setpoint_max, b1)
-    return segs
+    return segs[:i + 1] + [(t + T_new - T, *rest) for t, *rest in segs[i + 1:]]
 
 
 class Excitation:
@@ -66,7 +80,7 @@ class Excitation:
             t += T + float(rng.uniform(0.2, 0.8))
             x = tgt
         if setpoint_max is not None:
-            segs = reach(segs, setpoint_max)
+            segs = reach(segs, setpoint_max, duration, bench["speed_big"][1])
         self.segs, self.seg_tl = segs, [s[0] for s in segs]
         nd = 7
         f = np.exp(rng.uniform(math.log(0.5), math.log(18.0), nd))
