@@ -158,10 +158,11 @@ class CaseRunner:
     def closed_loop(self, kind, s):
         """The closed-loop run of experiment ``kind`` with the effect at size s: (excitation,
         model, u, Ps, Fext, solution). An end-stop case must touch its stop in EVERY experiment
-        (:func:`bench.reach`), but the servo settles short of a setpoint past the stop by an
-        amount that depends on the load (EHA dev s160: a training 3.6 mm short of a setpoint
-        4 mm past the stop, its effect ESR 0 on training and 50 % on the held-out record): the
-        setpoint is raised by the shortfall and the loop run again, at most twice."""
+        (:func:`bench.reach`). Should the servo still end short of it (a load that holds it off
+        the setpoint, a move that cannot finish), the setpoint is raised by the shortfall and the
+        loop run again, at most twice. (EHA dev s160's training, 3.6 mm short, was at first put
+        down to the servo settling short; its move to the stop had begun 0.8 s before the
+        recording ended, which ``reach`` now avoids.)"""
         sp = self.setpoint_max
         for _ in range(3):
             exc = self.excitation(kind, sp)
