@@ -17,6 +17,11 @@ from scipy.integrate import solve_ivp
 from experiments.concealed.truth.eha import Inputs
 
 
+#: peak / mean speed of a min-jerk move (30/16): a move of distance d at peak speed w takes
+#: MIN_JERK_PEAK * d / w
+MIN_JERK_PEAK = 1.875
+
+
 def min_jerk(s):
     s = min(max(s, 0.0), 1.0)
     return s ** 3 * (10 - 15 * s + 6 * s * s), 30 * s * s * (1 - s) ** 2
@@ -40,7 +45,7 @@ def reach(segs: list[tuple], setpoint_max: float, duration: float = float("inf")
 
     def stretched(k):
         t0, T, a, _ = segs[k]
-        return max(T, 1.875 * abs(setpoint_max - a) / max_speed)
+        return max(T, MIN_JERK_PEAK * abs(setpoint_max - a) / max_speed)
 
     ends = [k for k in range(len(segs)) if segs[k][0] + stretched(k) <= duration]
     i = max(ends or range(len(segs)), key=lambda k: segs[k][3])
@@ -68,10 +73,10 @@ class Excitation:
             kind = rng.choice(["big", "big", "slow", "small", "small"])
             if kind == "big":
                 tgt = float(rng.uniform(lo, hi))
-                T = abs(tgt - x) / rng.uniform(*bench["speed_big"]) * 1.875
+                T = abs(tgt - x) / rng.uniform(*bench["speed_big"]) * MIN_JERK_PEAK
             elif kind == "slow":
                 tgt = float(np.clip(x + rng.choice([-1, 1]) * rng.uniform(*bench["step_slow"]), lo, hi))
-                T = abs(tgt - x) / rng.uniform(*bench["speed_slow"]) * 1.875
+                T = abs(tgt - x) / rng.uniform(*bench["speed_slow"]) * MIN_JERK_PEAK
             else:
                 tgt = float(np.clip(x + rng.choice([-1, 1]) * rng.uniform(*bench["step_small"]), lo, hi))
                 T = rng.uniform(0.3, 0.8)
