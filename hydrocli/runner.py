@@ -19,7 +19,7 @@ from .solve.simulate import SolverOptions, simulate
 def load_machine(path: str | Path, sets: list[str] | None = None) -> tuple[Netlist, Model]:
     net = load_netlist(path)
     if sets:
-        from .netlist.loader import apply_overrides
+        from .netlist.overrides import apply_overrides
         net = apply_overrides(net, sets)
     return net, build_model(net)
 

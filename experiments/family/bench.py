@@ -67,7 +67,6 @@ class Excitation:
         self.B, self.duration, self.fs, self.preroll = bench, duration, fs, preroll
         self.setpoint_max = setpoint_max
         lo, hi = bench["setpoint_range"]
-        span = hi - lo
         segs, t, x = [], 0.0, bench["x_home"]
         while t < duration:
             kind = rng.choice(["big", "big", "slow", "small", "small"])

@@ -13,7 +13,6 @@ from ..errors import HydroError, Location, NetlistError
 from ..units import dimensionality
 from . import yamldoc as Y
 from .model import ComponentDecl, Netlist, ParamValue
-from .overrides import apply_overrides  # noqa: F401  (re-exported for the CLI's --set)
 from .params import Errors, param_value
 from .sections import entries
 from .sections import load_initial as _load_initial

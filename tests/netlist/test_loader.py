@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 
 from hydrocli.errors import NetlistError, UnitError, UsageError
-from hydrocli.netlist.loader import apply_overrides, load_netlist, load_netlist_text
+from hydrocli.netlist.loader import load_netlist, load_netlist_text
+from hydrocli.netlist.overrides import apply_overrides
 
 EHA = str(Path(__file__).parents[2] / "machines" / "eha_testbench.yaml")
 

@@ -49,7 +49,7 @@ def _smooth_pos(x: float, eps: float) -> float:
 def cbv_flows(p: dict, P_L: float, P_V: float, P_X: float) -> float:
     """Net flow L -> V through a vented counterbalance valve and its check valve [m^3/s]."""
     Pr = p["Pd"]
-    pl, pv, px = P_L - Pr, P_V - Pr, P_X - Pr
+    pl, px = P_L - Pr, P_X - Pr
     mu_x = px / max(pl, 1e5)
     s = pl / p["p_cr"] - 1.0 / (1.0 + p["C1"] * mu_x)
     q = (p["A0"] + p["A1"] * mu_x) * _reg_power(s, p["n0"], 1e-3)
