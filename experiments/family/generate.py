@@ -2,7 +2,7 @@
 
     python -m experiments.family.generate --out DIR [--machines lift rotary ...]
         [--effects E ...] [--forms F ...] [--split dev|heldout|all] [--seeds 0 1 2]
-        [--duration 20] [--jobs 2] [--list]
+        [--duration 20] [--jobs 2] [--every K] [--list]
 
 One case = (machine, effect, form, seed) -> DIR/<machine>/<case_id>/ with base.yaml (the
 machine file without the effect), train.csv/json and validate.csv/json (CSV header with units
@@ -431,9 +431,13 @@ def main(argv=None) -> int:
     ap.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2])
     ap.add_argument("--duration", type=float, default=20.0)
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--every", type=int, default=1, metavar="K",
+                    help="a sample fixed before any diagnosis: only the cases at positions 0, K, 2K, … of the listing")
     ap.add_argument("--list", action="store_true", help="list the cases and their split, write nothing")
     a = ap.parse_args(argv)
-    cases = all_cases(a.machines, a.seeds, a.split, a.effects, a.forms)
+    if a.every < 1:
+        ap.error("--every must be at least 1")
+    cases = all_cases(a.machines, a.seeds, a.split, a.effects, a.forms)[::a.every]
     if a.list:
         for c in cases:
             print(case_id(*c), split_of(*c))
