@@ -261,8 +261,8 @@ def next_scale(probes: list[tuple[float, float]], target: float, last: bool = Fa
     trusted = True
     if sa != sb:
         measured = math.log(max(eb, 1e-9) / max(ea, 1e-9)) / math.log(sb / sa)
+        trusted = SLOPE_RANGE[0] <= measured <= SLOPE_RANGE[1]
         slope = min(max(measured, SLOPE_RANGE[0]), SLOPE_RANGE[1])
-        trusted = slope == measured
         s1, e1 = sb, eb
     else:
         slope = 2.0
