@@ -579,9 +579,8 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
             if round_ == 0 and b.restrained is not None:
                 # which effect does the implausible value stand for? Tried first; when none
                 # beats the free base, the round runs from the free base as usual
-                rnd, accepted = _restrained_round(su, b, stage, accepted, st, pool, progress)
-                clock.lap("round 1 from the restrained base")
-                rows.extend(rnd.rows)
+                rnd, b, accepted, tried = _restrained_first(su, b, stage, accepted, st, pool, progress, clock)
+                rows.extend(tried)
                 if rnd.accepted is None:
                     log(progress, "  nothing beats the free base with the implausible values restrained: "
                                   "the round runs from the free base")
@@ -597,7 +596,9 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                 if drawn is not None:
                     accepted = _name_grown(accepted, drawn, rnd.rows, progress)
                 if round_ == 0 and rnd.accepted is None and b.slow_spools:
-                    spool, b_spool, acc = _spool_round(su, b, stage, accepted, st, pool, progress)
+                    spool, b_spool, acc = _spool_round(su, b, stage, accepted, st, pool, progress,
+                                                       "nothing passes from the free base, whose spool time constant is pressed "
+                                                       "against its tolerance's ceiling")
                     clock.lap("round 1 from the restrained spools")
                     if spool is not None and spool.accepted is not None:
                         rnd, b, accepted = spool, b_spool, acc
@@ -642,6 +643,27 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                      [a.get("proposed_experiment_text", "") for a in ambiguous])
 
 
+def _restrained_first(su: Setup, b: Baseline, free: Stage, accepted: list[dict], st: Settings, pool, progress,
+                      clock: StepClock):
+    """Round 1 from the restrained base (:func:`_restrained_round`) and, when it names a slow
+    transducer while a spool pressed against its ceiling stayed free
+    (:func:`restrain.lag_left_to_the_spool`), round 1 again with that spool restrained too
+    (:func:`_spool_round`), whose answer stands when it accepts anything (a slow transducer
+    among the candidates). Returns (the round, the baseline it ran from, the accepted list to
+    carry on, every row fitted)."""
+    rnd, acc = _restrained_round(su, b, free, accepted, st, pool, progress)
+    clock.lap("round 1 from the restrained base")
+    rows = list(rnd.rows)
+    if rnd.accepted is not None and restrain.lag_left_to_the_spool(rnd.accepted["effect"], b.slow_spools, b.restraints):
+        why = (f"{rnd.accepted['effect']} explains the readings' lag, not the spool's pressed against its "
+               "tolerance's ceiling, which delays the motion")
+        spool, b_spool, acc_spool = _spool_round(su, b, free, accepted, st, pool, progress, why)
+        clock.lap("round 1 from the restrained spools")
+        if spool is not None and spool.accepted is not None:
+            return spool, b_spool, acc_spool, rows + spool.rows
+    return rnd, b, acc, rows
+
+
 def _restrained_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict], st: Settings, pool, progress):
     """Round 1 from the restrained base (:mod:`.restrain`): which effect does the implausible
     value stand for? Every candidate must beat the ``free`` base as well. Grown chamber volumes
@@ -681,17 +703,19 @@ def _name_grown(accepted: list[dict], drawn: list[dict], on_top: list[dict], pro
             else a for a in accepted]
 
 
-def _spool_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict], st: Settings, pool, progress):
+def _spool_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict], st: Settings, pool, progress, why: str):
     """Round 1 again, from a base whose spool time constants are restrained to the datasheet's
-    tolerance (:func:`restrain.slow_spools`), when the round from the free base, with a spool
-    pressed against its ceiling, accepted nothing: the slow spool may HIDE a lag the file lacks
-    (a delayed command), predicting the held-out data so close to the noise that no candidate
-    gains what it must. Every candidate must beat the free base (:func:`_restrained_round`).
-    Returns (the round or None, the baseline it ran from, the accepted list to carry on)."""
+    tolerance (:func:`restrain.slow_spools`), with the other restraints kept, when the round
+    from the free base, with a spool pressed against its ceiling, accepted nothing — the slow
+    spool may HIDE a lag the file lacks (a delayed command), predicting the held-out data so
+    close to the noise that no candidate gains what it must — or when the round from the
+    restrained base named a slow transducer, which cannot explain a slow spool
+    (:func:`restrain.lag_left_to_the_spool`). ``why`` says which, in the log. Every candidate
+    must beat the free base (:func:`_restrained_round`). Returns (the round or None, the baseline
+    it ran from, the accepted list to carry on)."""
     lim = {**b.restraints, **b.slow_spools}
     names = ", ".join(f"{n} = {free.p[free.model.param_index(n)]:.4g}" for n in b.slow_spools)
-    log(progress, f"  nothing passes from the free base, whose spool time constant is pressed against its "
-                  f"tolerance's ceiling ({names}): re-identifying with it restrained to the datasheet's, to "
+    log(progress, f"  {why} ({names}): re-identifying with the spool restrained to the datasheet's tolerance, to "
                   "test which missing lag it hides…")
     held = restrained.restrained_base(su, free, lim, st, progress)
     if held is None:

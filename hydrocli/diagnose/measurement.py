@@ -23,6 +23,7 @@ PRESSURE_TAU_TYPICAL = 1.5e-3          # s: a transducer's lag with its amplifie
 SENSOR_TYPE = "pressure_sensor"
 RESONANT_SENSOR_TYPE = "pressure_sensor_2nd"   # a ringing transducer: the ``sensor_lag`` candidate's variant
 SENSOR_TYPES = (SENSOR_TYPE, RESONANT_SENSOR_TYPE)   # every pressure transducer law
+EFFECTS = frozenset({"sensor_lag"})   # vocabulary effects of the measurement, not of the machine: they cannot move it
 
 
 def pressure_nodes(net: Netlist) -> list[str]:

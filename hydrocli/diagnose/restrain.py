@@ -58,7 +58,7 @@ from .findings import EXCESS_FINDING
 from ..netlist.model import Netlist
 from . import augment
 from .candidates import Context
-from .measurement import PRESSURE_TAU_BOUNDS, PRESSURE_TAU_TYPICAL, sensor_components
+from .measurement import EFFECTS, PRESSURE_TAU_BOUNDS, PRESSURE_TAU_TYPICAL, sensor_components
 
 OIL_MIN = 1.0e9   # Pa: the softest effective bulk modulus of oil in a rigid chamber
 SLOW_TRANSDUCER = 0.95 * PRESSURE_TAU_BOUNDS[1]   # s: a transducer lag pressed against the ceiling
@@ -107,6 +107,20 @@ def slow_spools(ctx: Context, estimates: dict[str, float], bounds: dict[str, tup
         if name in bounds and v0 > 0 and v >= PRESSED * bounds[name][1] > SPOOL_TOLERANCE * v0:
             out[name] = (bounds[name][0], SPOOL_TOLERANCE * v0)
     return out
+
+
+def lag_left_to_the_spool(effect: str, slow: dict, restraints: dict) -> bool:
+    """Whether a round that named ``effect`` from the restrained base leaves the spool's pressed lag
+    unexplained: ``effect`` is one of the measurement's (``measurement.EFFECTS``: a slow
+    transducer) and a spool time constant the base fit pressed against its ceiling (``slow``,
+    :func:`slow_spools`) was left free in that round (not in ``restraints``). A transducer delays
+    the readings and nothing else; a spool slowed beyond its datasheet delays the flow, hence the
+    motion, which no transducer can do. That lag is then tested again from a base with the spool
+    restrained as well, where a slow transducer and a lag upstream of the motion (a delayed
+    command, a hose) compete on equal terms (``engine._spool_round``). Dev winch 8 ms command
+    delay, seed 164: the transducers and the spool pressed, a slow transducer named from the
+    restrained transducers (held-out motion ESR 0.013 → 0.054 %, noise 0.0013 %)."""
+    return effect in EFFECTS and bool(set(slow) - set(restraints))
 
 
 PINNED = 1e-3   # share of its bound a restrained parameter keeps free when the free fit ended on that bound

@@ -40,7 +40,7 @@ from ..errors import HydroError, SolverError
 from ..identify.transforms import FreeParameters
 from ..model.model import Model
 from ..solve.simulate import simulate
-from . import augment, findings, locate, residuals, stats
+from . import augment, findings, locate, measurement, residuals, stats
 from .candidates import Candidate, catalogue
 from .equations import hybrid_trajectory
 from .residuals import OPTS, used
@@ -56,7 +56,6 @@ ALPHA = 1e-3         # the paired test's level, shared between the candidates te
 # < 1 %; on a vane pendulum whose missing payload swing has states of its own, every law < 1 %)
 MIN_GAIN = 0.10
 TRAVEL_ESR = 1.0     # %: a named law's whole-record model must keep the positions this close (wandered)
-MEASUREMENT = frozenset({"sensor_lag"})   # effects of the measurement, not of the machine (state_free)
 FAILED = 10.0        # a window the model cannot simulate costs this many times its outputs' variance
 FEV = 20             # the window fits' budget: this many cost evaluations per parameter (and one)
 
@@ -215,7 +214,7 @@ def state_free(cands: list[Candidate], texts: dict[str, str], model: Model, mach
     names = {s.name for s in model.states}
     out = []
     for c in cands:
-        if c.key in texts and c.effect not in MEASUREMENT:
+        if c.key in texts and c.effect not in measurement.EFFECTS:
             try:
                 m = model_from_text(texts[c.key], machine)
             except Exception:      # reported by the round already

@@ -612,13 +612,67 @@ def test_a_round_from_a_base_with_the_spool_restrained_must_beat_the_free_base(m
     monkeypatch.setattr(restrained, "restrained_base", refit)
     monkeypatch.setattr(engine, "_restrained_round", round_from)
     said = []
-    rnd, b2, acc = engine._spool_round(None, b, free, [], engine.Settings(), None, said.append)
+    rnd, b2, acc = engine._spool_round(None, b, free, [], engine.Settings(), None, said.append, "why")
     assert seen["lim"] == {"friction.vs_p": (1e-3, 1e-2), "valve.tau": (2.8e-3, 4.6e-3)} and seen["from"] is free
     assert seen["round"] == (held, free) and b2.restrained is held and b2.restraints == seen["lim"]
     assert rnd.accepted["effect"] == "input_delay" and acc == ["x"]
     assert any("valve.tau = 0.00572" in m for m in said)
     monkeypatch.setattr(restrained, "restrained_base", lambda *a: None)
-    assert engine._spool_round(None, b, free, [], engine.Settings(), None, said.append) == (None, b, [])
+    assert engine._spool_round(None, b, free, [], engine.Settings(), None, said.append, "why") == (None, b, [])
+
+
+def test_a_slow_transducer_does_not_explain_a_slow_spool():
+    """``restrain.lag_left_to_the_spool``: a round from the restrained base that names an effect
+    of the measurement (a slow transducer) leaves a spool pressed against its ceiling
+    unexplained, since a transducer cannot delay the motion — unless that spool was already
+    restrained in the round. An effect of the machine (a delayed command, a hose) may explain
+    it, and a spool inside its tolerance asks nothing."""
+    from hydrocli.diagnose import restrain
+    from hydrocli.diagnose.measurement import EFFECTS
+    slow = {"valve.tau": (2.8e-3, 4.6e-3)}
+    sensors = {"p1_sensor.tau": (1e-4, 1.5e-3)}
+    assert EFFECTS == {"sensor_lag"}
+    assert restrain.lag_left_to_the_spool("sensor_lag", slow, sensors)
+    assert not restrain.lag_left_to_the_spool("sensor_lag", slow, {**sensors, **slow})
+    assert not restrain.lag_left_to_the_spool("sensor_lag", {}, sensors)
+    for effect in ("input_delay", "line_dynamics", "entrained_air"):
+        assert not restrain.lag_left_to_the_spool(effect, slow, sensors)
+
+
+def test_a_slow_transducer_named_with_a_spool_at_its_ceiling_is_tried_again_with_the_spool_restrained(monkeypatch):
+    """``engine._restrained_first``: when the round from the restrained base names a slow
+    transducer and the spool's pressed lag was left free, the round runs again with the spool
+    restrained (from the accepted list as it was before either round), and its answer stands
+    when it accepts anything; when it accepts nothing, or the first round named an effect of
+    the machine, the first round's answer stands."""
+    from hydrocli.diagnose import engine
+    from hydrocli.diagnose.clock import StepClock
+    b = engine.Baseline(None, None, [], {}, {}, [], 100.0, "held", {"s.tau": (1e-4, 1.5e-3)},
+                        {"valve.tau": (2.8e-3, 4.6e-3)})
+    first, calls = {}, []
+
+    def restrained_round(su, b_, free, accepted, st, pool, progress):
+        return SimpleNamespace(accepted=first["accepted"], rows=["r1"]), accepted + ["first"]
+
+    def spool_round(su, b_, free, accepted, st, pool, progress, why):
+        calls.append((list(accepted), why))
+        return SimpleNamespace(accepted=first["spool"], rows=["r2"]), "b_spool", accepted + ["spool"]
+    monkeypatch.setattr(engine, "_restrained_round", restrained_round)
+    monkeypatch.setattr(engine, "_spool_round", spool_round)
+
+    def run():
+        calls.clear()
+        return engine._restrained_first(None, b, "free", ["base"], engine.Settings(), None, None, StepClock(last=0.0))
+    first.update(accepted={"effect": "sensor_lag"}, spool={"effect": "input_delay"})
+    rnd, b2, acc, rows = run()
+    assert rnd.accepted["effect"] == "input_delay" and b2 == "b_spool" and acc == ["base", "spool"]
+    assert rows == ["r1", "r2"] and calls[0][0] == ["base"] and "sensor_lag" in calls[0][1]
+    first.update(spool=None)
+    rnd, b2, acc, rows = run()
+    assert rnd.accepted["effect"] == "sensor_lag" and b2 is b and acc == ["base", "first"] and len(calls) == 1
+    first.update(accepted={"effect": "input_delay"}, spool={"effect": "line_dynamics"})
+    rnd, b2, acc, rows = run()
+    assert rnd.accepted["effect"] == "input_delay" and b2 is b and rows == ["r1"] and not calls
 
 
 def test_actuator_bulk_modulus_below_oil_is_restrained_and_hoses_are_not(tmp_path):
