@@ -600,7 +600,7 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
                                                        "nothing passes from the free base, whose spool time constant is pressed "
                                                        "against its tolerance's ceiling")
                     clock.lap("round 1 from the restrained spools")
-                    if spool is not None and spool.accepted is not None:
+                    if spool is not None:
                         rnd, b, accepted = spool, b_spool, acc
                         rows.extend(rnd.rows)
             if round_ == 0:
@@ -659,7 +659,7 @@ def _restrained_first(su: Setup, b: Baseline, free: Stage, accepted: list[dict],
                "tolerance's ceiling, which delays the motion")
         spool, b_spool, acc_spool = _spool_round(su, b, free, accepted, st, pool, progress, why)
         clock.lap("round 1 from the restrained spools")
-        if spool is not None and spool.accepted is not None:
+        if spool is not None:
             return spool, b_spool, acc_spool, rows + spool.rows
     return rnd, b, acc, rows
 
@@ -711,8 +711,9 @@ def _spool_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict], st: 
     close to the noise that no candidate gains what it must — or when the round from the
     restrained base named a slow transducer, which cannot explain a slow spool
     (:func:`restrain.lag_left_to_the_spool`). ``why`` says which, in the log. Every candidate
-    must beat the free base (:func:`_restrained_round`). Returns (the round or None, the baseline
-    it ran from, the accepted list to carry on)."""
+    must beat the free base (:func:`_restrained_round`). Returns (the round, or None when the
+    restrained base cannot be simulated or the round accepted nothing; the baseline it ran from;
+    the accepted list to carry on)."""
     lim = {**b.restraints, **b.slow_spools}
     names = ", ".join(f"{n} = {free.p[free.model.param_index(n)]:.4g}" for n in b.slow_spools)
     log(progress, f"  {why} ({names}): re-identifying with the spool restrained to the datasheet's tolerance, to "
@@ -722,6 +723,8 @@ def _spool_round(su: Setup, b: Baseline, free: Stage, accepted: list[dict], st: 
         return None, b, accepted
     b_spool = replace(b, restrained=held, restraints=lim)
     rnd, acc = _restrained_round(su, b_spool, free, accepted, st, pool, progress)
+    if rnd.accepted is None:
+        return None, b, accepted
     return rnd, b_spool, acc
 
 

@@ -593,7 +593,8 @@ def test_a_round_from_a_base_with_the_spool_restrained_must_beat_the_free_base(m
     """``engine._spool_round``: the base is re-identified with the slow spool restrained AS
     WELL AS every other restraint, and the round runs from there with the free base as the
     floor every candidate must beat; when the restrained base cannot be simulated, nothing is
-    tried and the baseline is unchanged."""
+    tried, and when its round accepts nothing, no round is returned: either way the baseline is
+    unchanged."""
     from hydrocli.diagnose import engine, restrained
     net = load_netlist(ROOT / "machines" / "eha_testbench.yaml")
     model = build_model(net)
@@ -617,6 +618,9 @@ def test_a_round_from_a_base_with_the_spool_restrained_must_beat_the_free_base(m
     assert seen["round"] == (held, free) and b2.restrained is held and b2.restraints == seen["lim"]
     assert rnd.accepted["effect"] == "input_delay" and acc == ["x"]
     assert any("valve.tau = 0.00572" in m for m in said)
+    monkeypatch.setattr(engine, "_restrained_round",
+                        lambda su, b2, free_, accepted, *a: (SimpleNamespace(accepted=None), accepted + ["x"]))
+    assert engine._spool_round(None, b, free, [], engine.Settings(), None, said.append, "why") == (None, b, [])
     monkeypatch.setattr(restrained, "restrained_base", lambda *a: None)
     assert engine._spool_round(None, b, free, [], engine.Settings(), None, said.append, "why") == (None, b, [])
 
@@ -656,6 +660,8 @@ def test_a_slow_transducer_named_with_a_spool_at_its_ceiling_is_tried_again_with
 
     def spool_round(su, b_, free, accepted, st, pool, progress, why):
         calls.append((list(accepted), why))
+        if first["spool"] is None:          # _spool_round's contract: no round when it accepted nothing
+            return None, b_, accepted
         return SimpleNamespace(accepted=first["spool"], rows=["r2"]), "b_spool", accepted + ["spool"]
     monkeypatch.setattr(engine, "_restrained_round", restrained_round)
     monkeypatch.setattr(engine, "_spool_round", spool_round)
