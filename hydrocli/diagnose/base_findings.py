@@ -146,16 +146,25 @@ def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, s
     the noise): air −1131, a hose −58 (the finding had said hose). From the drawn volumes each
     reading must REPLACE the grown compliance, and the more flexible one may win by fitting
     other residual besides; there the name changes only against a reading that does not
-    improve at all."""
+    improve at all.
+
+    When no reading improves anywhere (:func:`_replaces`), the grown volumes — a constant
+    compliance — predict as well as anything, and the readings' ΔBIC from the drawn volumes
+    still say which one REPRODUCES a constant compliance: a hose's volume is one, air's
+    softens with falling pressure. The decisively lower names the finding (dev winch,
+    distributed hose, seed 167, motor volumes ×1.7: the line +311, air +491; seed 44's hose
+    above: +49 against +2105)."""
     def best(effect, rows_):
         fitted = [r for r in rows_ if r["effect"] == effect and r.get("fitted") and r.get("delta_bic") is not None]
         return min((r["delta_bic"] for r in fitted), default=None)
     alike = None
+    improved = False
     for rows_, (where, better) in ((rows, basis), (on_top, ON_TOP)):
         own = best(finding["effect"], rows_)
         if own is None:
             continue
         fitted = [(alt, d) for alt in finding.get("alternatives", []) if (d := best(alt, rows_)) is not None]
+        improved = improved or (bool(fitted) and min(own, *(d for _, d in fitted)) < 0)
         for alt, d_alt in fitted:
             if d_alt < 0 and (own >= 0 or (d_alt < own - DECISIVE_BIC and (where, better) == ON_TOP)):
                 why = (f"{where} {alt} {better} (ΔBIC {d_alt:+.0f}), {finding['effect']} "
@@ -168,10 +177,39 @@ def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, s
         if both and alike is None:
             alike = (where, better, own, *both[0])
     if alike:
+        where, better, own, alt, d_alt = alike
+        if not improved and (where, better) == FROM_DRAWING:
+            replaced = _replaces(finding, own, alt, d_alt, progress)
+            if replaced is not None:
+                return replaced
         # both readings fitted and neither improves on the grown volumes: the default name
         # stands, and the finding says the training data do not choose either
-        where, better, own, alt, d_alt = alike
         return dict(finding, description=f"{finding['description']}; {where} neither reading {better} "
                                          f"({finding['effect']} ΔBIC {own:+.0f}, {alt} {d_alt:+.0f}): the "
                                          "training data do not tell them apart either")
     return finding
+
+
+# what each reading's compliance is, said when it reproduces the grown volumes decisively better
+CONSTANCY = {"line_dynamics": "a constant compliance, as a hose's volume is",
+             "entrained_air": "a compliance that softens with falling pressure, as air's does"}
+
+
+def _replaces(finding: dict, own: float, alt: str, d_alt: float, progress) -> dict | None:
+    """The finding named by the reading that reproduces the grown volumes decisively better
+    from the drawn volumes (ΔBIC more than :data:`DECISIVE_BIC` lower), when neither improves
+    on them (:func:`labelled`); None when they are within the margin."""
+    if abs(d_alt - own) <= DECISIVE_BIC:
+        return None
+    name = alt if d_alt < own else finding["effect"]
+    other = finding["effect"] if name == alt else alt
+    lo, hi = min(own, d_alt), max(own, d_alt)
+    why = (f"from the drawn volumes neither reading fits the training data better than the grown volumes, "
+           f"but {name} reproduces them decisively better (ΔBIC {lo:+.0f} against {other} {hi:+.0f}): the excess "
+           f"is {CONSTANCY.get(name, name)}")
+    log(progress, f"  the grown volumes are {name}: {why}")
+    if name == finding["effect"]:
+        return dict(finding, description=f"{finding['description']}; {why}")
+    others = [e for e in finding["alternatives"] if e != alt]
+    return dict(finding, effect=alt, alternatives=[finding["effect"], *others],
+                description=f"{finding['description']}; named {alt}: {why}")
