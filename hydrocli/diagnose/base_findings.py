@@ -153,7 +153,7 @@ def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, s
     still say which one REPRODUCES a constant compliance: a hose's volume is one, air's
     softens with falling pressure. The decisively lower names the finding (dev winch,
     distributed hose, seed 167, motor volumes ×1.7: the line +311, air +491; seed 44's hose
-    above: +49 against +2105)."""
+    above, decided on top, ranks the same from the drawing: +49 against +2105)."""
     def best(effect, rows_):
         fitted = [r for r in rows_ if r["effect"] == effect and r.get("fitted") and r.get("delta_bic") is not None]
         return min((r["delta_bic"] for r in fitted), default=None)
@@ -164,7 +164,7 @@ def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, s
         if own is None:
             continue
         fitted = [(alt, d) for alt in finding.get("alternatives", []) if (d := best(alt, rows_)) is not None]
-        improved = improved or (bool(fitted) and min(own, *(d for _, d in fitted)) < 0)
+        improved = improved or own < 0 or any(d < 0 for _, d in fitted)
         for alt, d_alt in fitted:
             if d_alt < 0 and (own >= 0 or (d_alt < own - DECISIVE_BIC and (where, better) == ON_TOP)):
                 why = (f"{where} {alt} {better} (ΔBIC {d_alt:+.0f}), {finding['effect']} "

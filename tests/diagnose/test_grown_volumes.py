@@ -211,6 +211,8 @@ def test_when_no_reading_improves_anywhere_the_one_that_reproduces_the_grown_vol
     # any improvement, on top or from the drawing, leaves the earlier rules to decide
     assert base_findings.labelled(_excess(), _rows(491.0, 311.0), on_top=_rows(-5.0, 1321.0))["effect"] == "entrained_air"
     assert base_findings.labelled(_excess(), _rows(-20.0, 311.0), on_top=_rows(32.0, 1321.0))["effect"] == "entrained_air"
+    air_on_top = [r for r in _rows(-5.0, 0.0) if r["effect"] == "entrained_air"]      # the hose not fitted on top
+    assert base_findings.labelled(_excess(), _rows(491.0, 311.0), on_top=air_on_top)["effect"] == "entrained_air"
     # a one-sided volume judged on top only: no drawn-volume comparison to make
     undrawn = {"effect": "line_dynamics", "component": "cylinder", "finding": "undrawn_volume",
                "alternatives": ["entrained_air"], "description": "d"}
