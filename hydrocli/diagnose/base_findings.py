@@ -170,9 +170,7 @@ def labelled(finding: dict, rows: list[dict], progress=None, basis: tuple[str, s
                 why = (f"{where} {alt} {better} (ΔBIC {d_alt:+.0f}), {finding['effect']} "
                        f"{'does not' if own >= 0 else 'decisively less'} ({own:+.0f})")
                 log(progress, f"  the grown volumes are {alt} rather than {finding['effect']}: {why}")
-                others = [e for e in finding["alternatives"] if e != alt]
-                return dict(finding, effect=alt, alternatives=[finding["effect"], *others],
-                            description=f"{finding['description']}; named {alt}: {why}")
+                return _renamed(finding, alt, why)
         both = [(alt, d) for alt, d in fitted if d >= 0 and own >= 0]
         if both and alike is None:
             alike = (where, better, own, *both[0])
@@ -210,6 +208,12 @@ def _replaces(finding: dict, own: float, alt: str, d_alt: float, progress) -> di
     log(progress, f"  the grown volumes are {name}: {why}")
     if name == finding["effect"]:
         return dict(finding, description=f"{finding['description']}; {why}")
+    return _renamed(finding, alt, why)
+
+
+def _renamed(finding: dict, alt: str, why: str) -> dict:
+    """The finding named after its alternative ``alt``, its own effect now an alternative, and
+    the description saying why."""
     others = [e for e in finding["alternatives"] if e != alt]
     return dict(finding, effect=alt, alternatives=[finding["effect"], *others],
                 description=f"{finding['description']}; named {alt}: {why}")

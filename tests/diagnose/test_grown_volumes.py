@@ -96,8 +96,8 @@ def test_grown_volumes_are_named_a_hose_when_only_the_hose_beats_them_on_the_tra
 
 
 def test_grown_volumes_stay_air_unless_the_training_data_decide_against_it():
+    on_top = _rows(-80.0, 30.0)       # (air improves on top: the drawn volumes' margin says nothing)
     for air, line in ((-500.0, -1500.0), (-10.0, 400.0), (835.0, 20.0)):
-        on_top = _rows(-80.0, 30.0)       # (air improves on top: the drawn volumes' margin says nothing)
         assert base_findings.labelled(_excess(), _rows(air, line), on_top=on_top)["effect"] == "entrained_air"
     unfitted = [r for r in _rows(835.0, -1621.0) if r["effect"] != "entrained_air"]
     assert base_findings.labelled(_excess(), unfitted)["effect"] == "entrained_air"
