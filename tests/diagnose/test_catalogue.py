@@ -92,11 +92,14 @@ def test_supply_restriction_may_be_a_laminar_line(eha):
 
 def test_only_companions_bounded_by_limiting_laws_may_end_on_a_bound(eha):
     """``limits`` (a fit ending on the bound has found a law, accept.judge) is carried by the
-    supply restriction's Δp_lam (sharp orifice … laminar line) and air's polytropic exponent
-    (isothermal 1 … adiabatic 1.4; shared, or a chamber's pocket), by no primary and by no other companion of the catalogue."""
+    supply restriction's Δp_lam (sharp orifice … laminar line), air's polytropic exponent
+    (isothermal 1 … adiabatic 1.4; shared, or a chamber's pocket) and a filtered delay's lag
+    share (pure delay … first-order lag), by no primary and by no other companion of the
+    catalogue."""
     net, ctx = eha
     limited = {(c.effect, p.name.split(".")[-1]): p for c in catalogue(ctx)[0] for p in c.params if p.limits}
-    assert set(limited) == {("supply_pressure_drop", "dp_lam"), ("entrained_air", "air_n"), ("entrained_air", "n")}
+    assert set(limited) == {("supply_pressure_drop", "dp_lam"), ("entrained_air", "air_n"), ("entrained_air", "n"),
+                            ("input_delay", "s")}
     assert not any(p.primary for p in limited.values())
     assert limited[("entrained_air", "air_n")].bounds == (1.0, 1.4)
     assert limited[("entrained_air", "n")].bounds == (1.0, 1.4)        # a chamber's air pocket (gas law)

@@ -1,5 +1,5 @@
-"""Effect components: Padé delay reproduces a delayed ramp, play holds inside its band,
-pressure sensor lags by τ."""
+"""Effect components: Padé delay reproduces a delayed ramp, a delay behind a filter is first
+order plus dead time, play holds inside its band, pressure sensor lags by τ."""
 import numpy as np
 import pytest
 
@@ -26,6 +26,22 @@ def test_pade_delay_delays_a_smooth_signal():
     y = _run("pade_delay", ", T: 0.01", t, u)
     ref = np.interp(t - 0.01, t, u)
     assert np.max(np.abs(y - ref)[t > 0.5]) < 0.01
+
+
+def test_lagged_delay_is_first_order_plus_dead_time():
+    """A sine through e^{−sT}/(1 + τs), T = (1 − s)·D and τ = s·D: gain 1/√(1 + (ωτ)²), phase
+    −ωT − atan(ωτ) (the closed form of the transfer function); a ramp trails by D = T + τ."""
+    t = np.linspace(0, 3, 30001)
+    D, share, f = 0.02, 0.4, 3.0
+    T, tau, w = (1 - share) * D, share * D, 2 * np.pi * f
+    u = np.sin(w * t)
+    y = _run("lagged_delay", f", D: {D}, s: {share}", t, u)
+    ref = np.sin(w * t - w * T - np.arctan(w * tau)) / np.sqrt(1 + (w * tau) ** 2)
+    late = t > 1.0
+    assert np.max(np.abs(y - ref)[late]) < 2e-3
+    assert np.max(np.abs(y - u)[late]) > 0.3           # it does delay (3 Hz, 20 ms: 0.37 rad)
+    ramp = _run("lagged_delay", f", D: {D}, s: {share}", t, 0.5 * t)
+    assert np.max(np.abs(ramp - 0.5 * (t - D))[late]) < 1e-6
 
 
 def test_play_holds_inside_the_band_and_follows_outside():

@@ -199,11 +199,11 @@ def test_a_failed_law_leaves_the_effects_other_laws_for_the_next_wave():
     a plain stop or a cushion at either end) — then only the law fitted is."""
     from hydrocli.diagnose.candidates import LAWS
     from hydrocli.diagnose.shortlist import after_wave
-    assert "end_stop" in LAWS and "input_delay" not in LAWS
-    order, _ = _screened(("cushion_min", "force", "end_stop", 0.5), ("delay", "signal", "input_delay", 0.3),
-                         ("delay2", "signal", "input_delay", 0.25), ("cushion_max", "force", "end_stop", 0.2),
+    assert "end_stop" in LAWS and "valve_overlap" not in LAWS
+    order, _ = _screened(("cushion_min", "force", "end_stop", 0.5), ("lap", "valve", "valve_overlap", 0.3),
+                         ("lap2", "valve", "valve_overlap", 0.25), ("cushion_max", "force", "end_stop", 0.2),
                          ("stop", "force", "end_stop", 0.12), ("air", "continuity", "entrained_air", 0.1))
-    assert [c.key for c in after_wave(order, {"cushion_min", "delay"})] == ["cushion_max", "stop", "air"]
+    assert [c.key for c in after_wave(order, {"cushion_min", "lap"})] == ["cushion_max", "stop", "air"]
     assert [c.key for c in after_wave(order, set())] == [c.key for c in order]
 
 

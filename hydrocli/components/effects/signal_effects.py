@@ -1,5 +1,6 @@
-"""Signal-path effects: a transport delay as a second-order Padé block, valve play
-(backlash) as a smooth play operator, and a smooth Dahl hysteresis loop.
+"""Signal-path effects: a transport delay as a second-order Padé block, a delay behind a
+filter (first order plus dead time), valve play (backlash) as a smooth play operator, and a
+smooth Dahl hysteresis loop.
 
 Padé (2,2): e^{−sT} ≈ (1 − sT/2 + (sT)²/12)/(1 + sT/2 + (sT)²/12) (Franklin, Powell &
 Emami-Naeini, *Feedback Control*, §5.6.3), realised in controllable canonical form.
@@ -11,7 +12,7 @@ smooth right-hand side.
 from __future__ import annotations
 
 from ..base import SIGNAL_IN, SIGNAL_OUT, Component, Param, StateSpec
-from ..dynamics import dahl_rate, play_rate
+from ..dynamics import dahl_rate, first_order, play_rate
 from ..registry import register
 
 _IN, _OUT = SIGNAL_IN, SIGNAL_OUT
@@ -30,15 +31,48 @@ class PadeDelay(Component):
     states = (StateSpec("z1", "1", "Padé state 1", nominal=1e-3), StateSpec("z2", "1", "Padé state 2", nominal=1.0))
 
     def equations(self, c):
-        # H(s) = (s² − a1 s + a0)/(s² + a1 s + a0), a1 = 6/T, a0 = 12/T²
-        # = 1 − 2 a1 s/(s² + a1 s + a0): y = u − 2 a1 z2, z1' = z2, z2' = u − a0 z1 − a1 z2
-        u = c.signal("in")
-        a1 = 6.0 / c.p.T
-        a0 = 12.0 / (c.p.T * c.p.T)
-        z1, z2 = c.state("z1"), c.state("z2")
-        c.der("z1", z2)
-        c.der("z2", u - a0 * z1 - a1 * z2)
-        c.drive("out", u - 2.0 * a1 * z2)
+        c.drive("out", _pade(c, c.signal("in"), c.p.T))
+
+
+def _pade(c, u, T):
+    """The Padé (2,2) block on signal ``u`` with delay ``T`` (states z1, z2); returns its output.
+    H(s) = (s² − a1 s + a0)/(s² + a1 s + a0), a1 = 6/T, a0 = 12/T²
+    = 1 − 2 a1 s/(s² + a1 s + a0): y = u − 2 a1 z2, z1' = z2, z2' = u − a0 z1 − a1 z2."""
+    a1 = 6.0 / T
+    a0 = 12.0 / (T * T)
+    z1, z2 = c.state("z1"), c.state("z2")
+    c.der("z1", z2)
+    c.der("z2", u - a0 * z1 - a1 * z2)
+    return u - 2.0 * a1 * z2
+
+
+@register
+class LaggedDelay(Component):
+    """A delay behind a filter, first order plus dead time: e^{−sT}/(1 + τs), the dead time a
+    second-order Padé block as in :class:`PadeDelay`. The command path of a valve amplifier
+    with its input filter, a fieldbus that averages, a chain of small lags: Skogestad's half
+    rule approximates any cascade of lags by exactly this form (S. Skogestad, "Simple analytic
+    rules for model reduction and PID controller tuning", J. Process Control 13 (2003) 291,
+    §3.1). Parametrised by the equivalent delay D = T + τ (the low-frequency group delay: what
+    a pure delay fitted to the same data would come out as) and the lag's share s = τ/D; its
+    bounds are the law's limits, s → 0 a pure delay, s → 1 a first-order lag."""
+
+    type = "lagged_delay"
+    family = "effects"
+    description = "Delay behind a first-order filter: equivalent delay D = T + tau, lag share s = tau/D"
+    source = "first order plus dead time; Skogestad 2003 §3.1 (half rule); Padé as pade_delay"
+    ports = (_IN, _OUT)
+    parameters = (Param("D", "s", 2e-3, "equivalent delay T + tau", positive=True, bounds=(2e-4, 0.1)),
+                  Param("s", "1", 0.5, "the lag's share tau/D of the equivalent delay", bounds=(0.05, 0.95)))
+    states = (StateSpec("z1", "1", "Padé state 1", nominal=1e-3), StateSpec("z2", "1", "Padé state 2", nominal=1.0),
+              StateSpec("y", "1", "filtered output", nominal=1.0))
+
+    def equations(self, c):
+        D, share = c.p.D, c.p.s
+        delayed = _pade(c, c.signal("in"), (1.0 - share) * D)
+        y = c.state("y")
+        c.der("y", first_order(y, delayed, share * D))
+        c.drive("out", y)
 
 
 @register

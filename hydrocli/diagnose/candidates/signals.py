@@ -1,7 +1,7 @@
 """Signal and measurement effects: a transport delay on each machine input (second-order
-Padé block), and sensor lags beyond a typical transducer (pressure sensors re-identified
-with wide bounds; position/velocity sensors with a first-order lag; a speed sensor alone
-behind a second-order filter)."""
+Padé block), alone or behind a first-order filter, and sensor lags beyond a typical
+transducer (pressure sensors re-identified with wide bounds; position/velocity sensors with a
+first-order lag; a speed sensor alone behind a second-order filter)."""
 from __future__ import annotations
 
 from .. import augment as A
@@ -14,11 +14,22 @@ CLEARLY_SLOW = 5e-3  # s: a pressure-sensor lag reported as an effect must be we
                      # transducer (≤ 1–2 ms); smaller lags stay in the measurement model
 MIN_DELAY = 2e-3   # s: shorter "delays" are sampling/interpolation artefacts of the recording
                    # (a command held between samples but interpolated linearly looks ~half a sample late)
+LAG_SHARES = (0.5, 0.2, 0.8)   # the lag's share τ/D of a filtered delay the fit starts from
 
 
 class InputDelayFamily(Family):
+    """A command that reaches the machine late: a pure transport delay (``pade_delay``), or a
+    delay behind a filter (``lagged_delay``, first order plus dead time: an amplifier's input
+    filter, a fieldbus that averages, a chain of lags). They are laws of one effect: a pure
+    delay passes every frequency at full amplitude, a filter attenuates the fast content it
+    delays. A chain of lags fitted with a pure delay leaves that attenuation behind, and a
+    mode of the structure (a mount, a rod–load link) then takes it up as a second effect (dev
+    counterbalanced lift, four lags of 3.7 ms on the command: the delay was accepted and a
+    mount after it, ΔBIC −9963 on top)."""
+
     effects = ("input_delay",)
     lags = frozenset({"input_delay"})
+    laws = frozenset({"input_delay"})
 
     def candidates(self, ctx: Context):
         out = []
@@ -26,19 +37,30 @@ class InputDelayFamily(Family):
             users = ctx.on_node(name)
             if not users:
                 continue
-            delay = A.unique_name(ctx.net, f"{name}_delay")
-            node = A.unique_name(ctx.net, f"{name}_delayed")
-            T = f"{delay}.T"
-
-            def build(net, name=name, delay=delay, node=node, users=tuple(users), T=T):
-                for comp, port in users:
-                    net = A.connect(net, comp, port, node)
-                net = A.add(net, delay, "pade_delay", {"in": name, "out": node})
-                return A.free(net, T, 2.5e-4, (2e-4, 0.1), True)
-            out.append(Candidate("input_delay", users[0][0],
-                                 [NewParam(T, 2.5e-4, (2e-4, 0.1), (MIN_DELAY, 0.1), 5e-3, True)], build, "signal",
-                                 f"transport delay on input '{name}'"))
+            out += [_delayed_input(ctx, name, users, filtered) for filtered in (False, True)]
         return out or [Skipped("input_delay", "no machine input drives a component")]
+
+
+def _delayed_input(ctx: Context, name: str, users: list, filtered: bool) -> Candidate:
+    """Input ``name`` reaching its users late: through a Padé delay (its T), or through a delay
+    behind a filter (its equivalent delay D; the lag's share s a companion whose bounds are the
+    law's limits). The delay is the primary, from near nothing."""
+    delay = A.unique_name(ctx.net, f"{name}_delay")
+    node = A.unique_name(ctx.net, f"{name}_delayed")
+    block, size = ("lagged_delay", "D") if filtered else ("pade_delay", "T")
+    params = [NewParam(f"{delay}.{size}", 2.5e-4, (2e-4, 0.1), (MIN_DELAY, 0.1), 5e-3, True)]
+    if filtered:
+        params.append(NewParam(f"{delay}.s", LAG_SHARES[0], (0.05, 0.95), (0.05, 0.95), LAG_SHARES[0], False,
+                               primary=False, shapes=LAG_SHARES[1:], basins=True, limits=True))
+
+    def build(net, users=tuple(users), params=params):
+        for comp, port in users:
+            net = A.connect(net, comp, port, node)
+        net = A.add(net, delay, block, {"in": name, "out": node})
+        return A.free_new(net, params)
+    text = "delay behind a first-order filter" if filtered else "transport delay"
+    return Candidate("input_delay", users[0][0], params, build, "signal", f"{text} on input '{name}'",
+                     variant="filtered" if filtered else "")
 
 
 SLOW_SENSOR_MAX = 1.0   # s: a pressure read through a gauge snubber or a long thin sensing line
