@@ -8,7 +8,8 @@ the size is set by how often the setpoints reach the stop). ``LIMITS`` clips par
 have a physical ceiling. Machines without an entry for a form do not carry it. The third forms
 (``THIRD``, classes in truth/third_forms.py; ``THIRD_FORMS``: form -> effect) follow each
 effect's first two and are generated only when named (``--forms``); so are the fourth forms
-(``FOURTH``, truth/fourth_forms.py; ``FOURTH_FORMS``), appended after the third.
+(``FOURTH``, truth/fourth_forms.py; ``FOURTH_FORMS``), appended after the third, and the fifth
+(``FIFTH``, truth/fifth_forms.py; ``FIFTH_FORMS``), appended after the fourth.
 """
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ import math
 from experiments.concealed.truth import effects as C
 
 from .machines import MACHINES
+from .truth import fifth_forms as VF
 from .truth import forms as F
 from .truth import fourth_forms as QF
 from .truth import third_forms as TF
@@ -346,12 +348,81 @@ for _e, _forms in FOURTH.items():
     FORMS[_e].update(_forms)
 FOURTH_FORMS = {f: e for e, fs in FOURTH.items() for f in fs}
 
+# fifth forms (session 64, truth/fifth_forms.py): physically different again from every form
+# above; appended after the fourth, generated only when --forms names them (generate.all_cases)
+_WARM = {"dT_max": 20.0, "k_T": 0.03, "tau_T": 15.0}       # 20 K over a record, tau 15 s, HLP oil
+FIFTH = {
+    # the rod side of the single-rod lifts; both seals of the double-rod EHA, the vane, the motor
+    "external_leakage": {
+        "film_drag_out": (VF.FilmDragLeakage,
+                          _per({"c": 1.3e-12, "v_ref": 0.1, "v_eps": 1e-3, "both": 0},
+                               {"c": 1e-13, "v_ref": 1.0, "v_eps": 0.01, "both": 1},
+                               {"c": 3e-12, "v_ref": 0.1, "v_eps": 1e-3, "both": 1},
+                               winch={"c": 3.5e-13, "v_ref": 3.0, "v_eps": 0.03, "both": 1}),
+                          {"c": 1}),
+    },
+    "internal_leakage": {
+        "warming_bypass": (VF.WarmingBypassLeakage,
+                           _per({"c0": 2.5e-12, **_WARM}, {"c0": 3e-13, **_WARM}, {"c0": 7e-12, **_WARM},
+                                winch={"c0": 7.5e-13, **_WARM}), {"c0": 1}),
+    },
+    "viscous_friction": {
+        "warming_viscous": (VF.WarmingViscous,
+                            _per({"b0": 25000.0, **_WARM}, {"b0": 5.0, **_WARM}, {"b0": 9000.0, **_WARM},
+                                 winch={"b0": 6.0, **_WARM}), {"b0": 1}),
+    },
+    # the branch's corner 1/(2 pi R C_g) at 1-6 Hz at the chamber's typical pressure; the size
+    # scales the gas AND the bore's conductance (R / s), so the corner stays where it is: with R
+    # fixed a larger pocket only moves the corner below the band and the effect saturates at the
+    # restriction's (rotary s173 went to 50 x V_g: 1.3 l of gas on a 60 cm3 chamber, for 8 %)
+    "entrained_air": {
+        "pocket_behind_orifice": (VF.BranchGasPocket,
+                                  _per({"V_gA": 1.7e-4, "R_A": 5e10, "V_gB": 3.4e-5, "R_B": 5e10},
+                                       {"V_gA": 2.6e-5, "R_A": 3.7e11, "V_gB": 2.6e-5, "R_B": 3.7e11},
+                                       {"V_gA": 1.4e-4, "R_A": 7.5e10, "V_gB": 1.4e-4, "R_B": 7.5e10},
+                                       winch={"V_gA": 1e-4, "R_A": 4e11, "V_gB": 3e-5, "R_B": 2e11}),
+                                  {"V_gA": 1, "V_gB": 1, "R_A": -1, "R_B": -1}),
+    },
+    # a stiff steel pin / key (k: a joint mode near 370-550 Hz, damping ratio ~0.1 in contact).
+    # Not on the lifts nor the winch: their hanging load presses the joint one way (its weight far
+    # above the inertial forces of the moves), so the clearance never opens, only the pin's
+    # stiffness would show and the size b could not set the effect
+    "load_compliance": {
+        "pin_clearance": (VF.ClearanceJoint,
+                          _per(None, {"frac_p": 0.35, "k": 1e6, "c": 85.0, "b": 6e-3},
+                               {"frac_p": 0.35, "k": 2e8, "c": 1.16e4, "b": 1e-4}, ("rotary", "eha")),
+                          {"b": 1}),
+    },
+    "input_delay": {
+        "moving_average": (VF.MovingAverageDelay, _per({"T": 0.03}, {"T": 0.006}, {"T": 0.03}, winch={"T": 0.012}),
+                           {"T": 1}),
+    },
+    # not on the winch: its drum speed changes over seconds, so a window of at most 50 ms changes
+    # its recorded rate by an effect ESR of 0.2-0.4 % (seeds 172, 173), below the generator's range
+    "sensor_lag": {
+        "differenced_velocity": (VF.DifferencedVelocity, _per({"T": 0.04}, {"T": 0.03}, {"T": 0.03}), {"T": 1}),
+    },
+    # the compensator's lag: 0.15 s on the lifts (their flow demand changes over ~1 s moves: a
+    # faster compensator would need a gain dipping > 100 bar on a step to show), 0.1 s elsewhere;
+    # k q of a full-flow step: 60 bar (lifts), 10-20 bar (vane, EHA, winch)
+    "supply_pressure_drop": {
+        "compensator_dip": (VF.CompensatorDip,
+                            _per({"k": 1.2e10, "tau_c": 0.15}, {"k": 6e10, "tau_c": 0.1}, {"k": 3.3e9, "tau_c": 0.1},
+                                 winch={"k": 6e9, "tau_c": 0.1}), {"k": 1}),
+    },
+}
+for _e, _forms in FIFTH.items():
+    FORMS[_e].update(_forms)
+FIFTH_FORMS = {f: e for e, fs in FIFTH.items() for f in fs}
+
 LIMITS = {"alpha0": (0.0, 0.9), "frac_p": (0.05, 0.9), "m_frac": (0.002, 0.85),
           # a sampled controller no slower than 20 Hz (at 8 Hz the lift_cbv loop limit-cycles)
           "T_s": (1e-3, 0.05),
           # a transducer's resonance no lower than 15 Hz (the calibration would take it to 1 Hz:
           # a low-pass, not a resonance)
-          "f_n": (15.0, 1e4)}
+          "f_n": (15.0, 1e4),
+          # a moving-average / differencing window of at least one sample, at most 50 ms
+          "T": (1e-3, 0.05)}
 
 # truth parameters the effect needs ZEROED in the truth base, and the machine-file edits that
 # remove the same term from the case's base.yaml: machine -> effect -> [(truth key, yaml key,

@@ -63,15 +63,17 @@ ESR_DEF = ("100*var(y_on - y_off)/var(y_on) per signal, noise-free, y_off = same
 
 def all_cases(machines, seeds, split="all", effects=None, forms=None):
     """Every (machine, effect, form, seed) the family defines, filtered by split (and, when
-    ``forms`` is given, to those form names; without it, the third and fourth forms are left out)."""
+    ``forms`` is given, to those form names; without it, the third, fourth and fifth forms are
+    left out)."""
     out = []
     for m in machines:
         for e in (effects or ["none"] + list(cat.FORMS)):
             fs = NULL_FORMS if e == "none" else cat.forms_of(m, e)
             for f in fs:
-                # the third and fourth forms are probes of forms nothing was tuned on: only when
-                # named, so the commands that made the earlier dev and held-out sets write the same cases
-                if (f not in forms) if forms is not None else (f in cat.THIRD_FORMS or f in cat.FOURTH_FORMS):
+                # the third, fourth and fifth forms are probes of forms nothing was tuned on: only
+                # when named, so the commands that made the earlier dev and held-out sets write the same cases
+                if (f not in forms) if forms is not None else (f in cat.THIRD_FORMS or f in cat.FOURTH_FORMS
+                                                              or f in cat.FIFTH_FORMS):
                     continue
                 for s in seeds:
                     if split == "all" or split_of(m, e, f, s) == split:

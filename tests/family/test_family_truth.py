@@ -114,11 +114,12 @@ def test_split_is_balanced_and_every_effect_is_on_both_sides():
 
 def test_every_effect_has_two_forms_on_every_machine_that_carries_it():
     """Two forms (plus at most one third form, catalogue.THIRD_FORMS, on some machines, and
-    at most one fourth, catalogue.FOURTH_FORMS)."""
+    at most one fourth, catalogue.FOURTH_FORMS, and one fifth, catalogue.FIFTH_FORMS)."""
     for m in MACHINES:
         for e in cat.FORMS:
-            fs = [f for f in cat.forms_of(m, e) if f not in cat.FOURTH_FORMS]
-            assert len(cat.forms_of(m, e)) - len(fs) <= 1, (m, e)
+            fs = [f for f in cat.forms_of(m, e) if f not in cat.FOURTH_FORMS and f not in cat.FIFTH_FORMS]
+            assert len([f for f in cat.forms_of(m, e) if f in cat.FOURTH_FORMS]) <= 1, (m, e)
+            assert len([f for f in cat.forms_of(m, e) if f in cat.FIFTH_FORMS]) <= 1, (m, e)
             n = len([f for f in fs if f not in cat.THIRD_FORMS])
             assert n in (0, 2), (m, e, n)
             assert len(fs) - n <= (1 if n else 0), (m, e, fs)
