@@ -22,10 +22,11 @@ class InputDelayFamily(Family):
     delay behind a filter (``lagged_delay``, first order plus dead time: an amplifier's input
     filter, a fieldbus that averages, a chain of lags). They are laws of one effect: a pure
     delay passes every frequency at full amplitude, a filter attenuates the fast content it
-    delays. A chain of lags fitted with a pure delay leaves that attenuation behind, and a
-    mode of the structure (a mount, a rod–load link) then takes it up as a second effect (dev
-    counterbalanced lift, four lags of 3.7 ms on the command: the delay was accepted and a
-    mount after it, ΔBIC −9963 on top)."""
+    delays, and the fits say which law the command path follows (dev lift and counterbalanced
+    lift, four lags of 3.7 ms on the command: the filtered law is accepted and the held-out
+    error after it is 6–13 % lower than after the pure delay; on the counterbalanced lift a
+    rod–load link is still accepted after it, so what the link takes up there is not the
+    chain's attenuation)."""
 
     effects = ("input_delay",)
     lags = frozenset({"input_delay"})
