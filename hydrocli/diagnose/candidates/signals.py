@@ -23,10 +23,10 @@ class InputDelayFamily(Family):
     filter, a fieldbus that averages, a chain of lags). They are laws of one effect: a pure
     delay passes every frequency at full amplitude, a filter attenuates the fast content it
     delays, and the fits say which law the command path follows (dev lift and counterbalanced
-    lift, four lags of 3.7 ms on the command: the filtered law is accepted and the held-out
-    error after it is 6–13 % lower than after the pure delay; on the counterbalanced lift a
-    rod–load link is still accepted after it, so what the link takes up there is not the
-    chain's attenuation)."""
+    lift, four lags of 3.7 ms on the command: the filtered law is accepted, and after it the
+    held-out P1 error is 6–13 % lower than after the pure delay (the summed ESR 4–8 %); on the
+    counterbalanced lift a rod–load link is still accepted after it, so what the link takes
+    up there is not the chain's attenuation)."""
 
     effects = ("input_delay",)
     lags = frozenset({"input_delay"})
