@@ -19,11 +19,11 @@ from scipy.integrate import solve_ivp
 from experiments.concealed.truth.eha import Inputs
 from experiments.family import catalogue as cat
 from experiments.family.bench import _Live
-from experiments.family.generate import _truth, all_cases
+from experiments.family.generate import all_cases
 from experiments.family.machines import MACHINES
 from experiments.family.truth import fifth_forms as VF
 from experiments.family.truth.actuator import ActuatorTruth
-from truthruns import still_inputs, truth_model
+from truthruns import deviation, esr, sine_run, still_inputs, truth_model
 
 FIFTH = sorted(cat.FIFTH_FORMS.items())
 
@@ -286,20 +286,8 @@ def test_compensator_holds_the_set_pressure_in_steady_flow_and_dips_by_k_q_after
 
 # ---- (b) off and (c) on against the base truth -------------------------------------------------
 def _run(machine, effect, form, T=0.4):
-    mt = MACHINES[machine]
-    B = mt.bench
-    dt = 1e-3
-    n = int(T / dt) + 2
-    t = dt * np.arange(n)
-    u = 8.0 * np.sin(2 * math.pi * 3.0 * t)
-    p = dict(mt.nominal)
-    p.update(getattr(cat.FORMS[cat.FIFTH_FORMS[form]][form][0], "base_overrides", {}))
-    m = _truth(mt, p, effect, Inputs(0.0, dt, u, [B["Ps0"]] * n, [0.0] * n))
-    y0 = (m.initial_state(B["x_home"], B["P0"], B["PB0"]) if isinstance(m, ActuatorTruth)
-          else m.initial_state(B["x_home"], B["P0"]))
-    sol = m.simulate(t[:-1], y0)
-    assert sol.success and np.all(np.isfinite(sol.y))
-    return m.measured(sol.y), sol.y[:9]
+    B = MACHINES[machine].bench
+    return sine_run(machine, effect, form, (B["x_home"], B["P0"], B["PB0"]), 8.0, T)
 
 
 OFF = {"film_drag_out": {"c": 0.0}, "warming_bypass": {"c0": 0.0}, "warming_viscous": {"b0": 0.0},
@@ -332,10 +320,7 @@ def test_switched_off_the_form_is_the_base_truth(form):
 
 
 def _err(form, machine, prm):
-    effect = cat.FIFTH_FORMS[form]
-    on, _ = _run(machine, cat.make(effect, form, prm), form)
-    off, _ = _run(machine, None, form)
-    return max(np.max(np.abs(on[k] - off[k])) / np.ptp(off[k]) for k in ("P1", "P2", "v"))
+    return deviation(_run, machine, form, prm)
 
 
 @pytest.mark.parametrize("form", sorted(LIMIT))
@@ -350,10 +335,7 @@ def test_towards_its_limit_the_form_approaches_the_base_truth(form):
 
 
 def _esr(form, machine):
-    effect = cat.FIFTH_FORMS[form]
-    on, _ = _run(machine, cat.make(effect, form, cat.scaled_params(machine, effect, form, 1.0)), form)
-    off, _ = _run(machine, None, form)
-    return {k: 100.0 * np.var(on[k] - off[k]) / np.var(on[k]) for k in ("P1", "P2", "v")}
+    return esr(_run, machine, form)
 
 
 @pytest.mark.parametrize("form", sorted(ONE_MACHINE))

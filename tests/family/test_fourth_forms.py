@@ -17,11 +17,11 @@ from scipy.integrate import solve_ivp
 
 from experiments.concealed.truth.eha import Inputs, flow_law
 from experiments.family import catalogue as cat
-from experiments.family.generate import _truth, all_cases
+from experiments.family.generate import all_cases
 from experiments.family.machines import MACHINES
 from experiments.family.truth import fourth_forms as QF
 from experiments.family.truth.actuator import ActuatorTruth
-from truthruns import still_inputs, truth_model
+from truthruns import deviation, esr, sine_run, still_inputs, truth_model
 
 FOURTH = sorted(cat.FOURTH_FORMS.items())
 
@@ -276,19 +276,8 @@ def _drive(form, machine):
 
 
 def _run(machine, effect, form, T=0.4):
-    mt = MACHINES[machine]
     x0, P0, PB0, amp = _drive(form, machine)
-    dt = 1e-3
-    n = int(T / dt) + 2
-    t = dt * np.arange(n)
-    u = amp * np.sin(2 * math.pi * 3.0 * t)
-    p = dict(mt.nominal)
-    p.update(getattr(cat.FORMS[cat.FOURTH_FORMS[form]][form][0], "base_overrides", {}))
-    m = _truth(mt, p, effect, Inputs(0.0, dt, u, [mt.bench["Ps0"]] * n, [0.0] * n))
-    y0 = m.initial_state(x0, P0, PB0) if isinstance(m, ActuatorTruth) else m.initial_state(x0, P0)
-    sol = m.simulate(t[:-1], y0)
-    assert sol.success and np.all(np.isfinite(sol.y))
-    return m.measured(sol.y), sol.y[:9]
+    return sine_run(machine, effect, form, (x0, P0, PB0), amp, T)
 
 
 OFF = {"cracking_drain": {"K_r": 0.0}, "elastic_gap": {"c0": 0.0}, "tight_spot": {"Fc_p": 0.0, "Fc_m": 0.0},
@@ -319,10 +308,7 @@ def test_switched_off_the_form_is_the_base_truth(form):
 
 
 def _err(form, machine, prm):
-    effect = cat.FOURTH_FORMS[form]
-    on, _ = _run(machine, cat.make(effect, form, prm), form)
-    off, _ = _run(machine, None, form)
-    return max(np.max(np.abs(on[k] - off[k])) / np.ptp(off[k]) for k in ("P1", "P2", "v"))
+    return deviation(_run, machine, form, prm)
 
 
 @pytest.mark.parametrize("form", sorted(LIMIT))
@@ -337,10 +323,7 @@ def test_towards_its_limit_the_form_approaches_the_base_truth(form):
 
 
 def _esr(form, machine):
-    effect = cat.FOURTH_FORMS[form]
-    on, _ = _run(machine, cat.make(effect, form, cat.scaled_params(machine, effect, form, 1.0)), form)
-    off, _ = _run(machine, None, form)
-    return {k: 100.0 * np.var(on[k] - off[k]) / np.var(on[k]) for k in ("P1", "P2", "v")}
+    return esr(_run, machine, form)
 
 
 @pytest.mark.parametrize("form", sorted(ONE_MACHINE))
