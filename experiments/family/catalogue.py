@@ -414,6 +414,8 @@ FIFTH = {
 for _e, _forms in FIFTH.items():
     FORMS[_e].update(_forms)
 FIFTH_FORMS = {f: e for e, fs in FIFTH.items() for f in fs}
+# the probes of forms nothing was tuned on: generated only when --forms names them
+NAMED_ONLY = {**THIRD_FORMS, **FOURTH_FORMS, **FIFTH_FORMS}
 
 LIMITS = {"alpha0": (0.0, 0.9), "frac_p": (0.05, 0.9), "m_frac": (0.002, 0.85),
           # a sampled controller no slower than 20 Hz (at 8 Hz the lift_cbv loop limit-cycles)

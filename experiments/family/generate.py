@@ -72,8 +72,7 @@ def all_cases(machines, seeds, split="all", effects=None, forms=None):
             for f in fs:
                 # the third, fourth and fifth forms are probes of forms nothing was tuned on: only
                 # when named, so the commands that made the earlier dev and held-out sets write the same cases
-                if (f not in forms) if forms is not None else (f in cat.THIRD_FORMS or f in cat.FOURTH_FORMS
-                                                              or f in cat.FIFTH_FORMS):
+                if (f not in forms) if forms is not None else f in cat.NAMED_ONLY:
                     continue
                 for s in seeds:
                     if split == "all" or split_of(m, e, f, s) == split:
