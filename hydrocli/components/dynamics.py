@@ -42,6 +42,30 @@ def play_rate(u, y, b, eps, tau):
     return (E.smooth_pos(u - y - b, eps) - E.smooth_pos(y - u - b, eps)) / tau
 
 
+def softplus(x, width):
+    """max(x, 0) smoothed over ``width`` with an exponential tail: max(x, 0) + w·ln(1 + e^(−|x|/w))
+    (overflow-free form of w·ln(1 + e^(x/w))). Unlike :func:`E.smooth_pos`, whose tail falls
+    only as w²/(4|x|), it is zero to within w·e^(−|x|/w) away from the corner."""
+    return E.fmax(x, 0.0) + width * E.log(1.0 + E.exp(-E.fabs(x) / width))
+
+
+def logistic(x, width):
+    """The slope of :func:`softplus`: 1/(1 + e^(−x/w)) = ½(1 + tanh(x/2w))."""
+    return 0.5 * (1.0 + E.tanh(0.5 * x / width))
+
+
+def dead_zone(d, gap, width):
+    """A clearance's dead zone and its slope, ``(D, D')``: D(d) = s⁺(d − g/2) − s⁺(−d − g/2),
+    s⁺ the positive part smoothed over ``width`` (:func:`softplus`), so D is 0 while the two
+    parts float inside the clearance of total width g and d ∓ g/2 once it is taken up; D' is
+    the contact indicator (0 inside the band, 1 in contact). g = 0 gives D = d, D' = 1
+    exactly, a plain spring. The dead-zone model of backlash, with damping acting in contact
+    only (Nordin & Gutman, Automatica 38 (2002), §2, eqs. 2–3)."""
+    h = 0.5 * gap
+    up, down = d - h, -d - h
+    return softplus(up, width) - softplus(down, width), logistic(up, width) + logistic(down, width)
+
+
 def tanh_sign(v, eps):
     """sign(v) smoothed as tanh(v/ε) (seed 004, text after eq. 11)."""
     return E.tanh(v / eps)

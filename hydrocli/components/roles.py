@@ -29,6 +29,7 @@ metering_valve     ports supply, tank, work_a, work_b, command; params flow_gain
 load               ports node; params inertia (mass or moment of inertia)
 spring             ports a, b; params stiffness
 damper             ports a, b; params damping
+clearance          ports a, b; params stiffness and damping (in contact), gap (the total free play)
 friction           ports a, b, pressure_a, pressure_b; params viscous, coulomb, stribeck (one or
                    two names: both directions of motion), stribeck_speed (the speed over which
                    the breakaway excess decays, one or two names), pressure (seal friction per
@@ -68,6 +69,7 @@ METERING_VALVE = "metering_valve"
 LOAD = "load"
 SPRING = "spring"
 DAMPER = "damper"
+CLEARANCE = "clearance"
 FRICTION = "friction"
 PRESSURE_SOURCE = "pressure_source"
 TANK = "tank"

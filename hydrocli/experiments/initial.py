@@ -130,6 +130,11 @@ def start_without_data(model: Model, p: np.ndarray | None = None) -> np.ndarray:
     return _balance(model, 0.0, u0, x0, model.p0 if p is None else np.asarray(p, dtype=float), skip=set())
 
 
+BALANCE_ITERATIONS = 25   # Newton steps at most: a spring's balance is linear (one step, one to
+                          # confirm); a joint with clearance starts in its dead band, where the
+                          # slope is nearly zero, and reaches its contact in a few more
+
+
 def _balance(model: Model, t0: float, u0, x0: np.ndarray, p: np.ndarray, skip: set) -> np.ndarray:
     """Newton on the (small, linear for springs) system ∂ẋ_ref/∂x_state = 0 of the balance rules."""
     rules = [r for r in model.initial_rules if r.kind == "balance" and r.state not in skip]
@@ -138,7 +143,7 @@ def _balance(model: Model, t0: float, u0, x0: np.ndarray, p: np.ndarray, skip: s
     x0 = x0.copy()
     si = [model.state_index(r.state) for r in rules]
     ri = [model.state_index(r.ref) for r in rules]
-    for _ in range(3):
+    for _ in range(BALANCE_ITERATIONS):
         dx, _ = _evaluate(model, t0, u0, x0, p)
         g = dx[ri]
         if not np.all(np.isfinite(g)):

@@ -343,6 +343,38 @@ def test_a_rod_load_link_starts_at_rest_under_its_load_and_carries_joint_frictio
     assert np.abs(x - 0.2).max() < 1e-3
 
 
+def test_a_joint_with_play_starts_in_contact_under_its_load():
+    """The clearance law of the rod–load link on the lift (1.5 t hanging on the rod, a 3 mm
+    play): the balance rule puts the joint in contact on the side the weight pulls, carrying
+    it at t = 0 (from the middle of the play the load would fall 1.5 mm, then ring); the play
+    is the primary, the contact's stiffness a companion started rigid."""
+    from hydrocli.experiments.experiment import Experiment
+    from hydrocli.experiments.initial import initial_state
+    from hydrocli.solve.simulate import InputTable, SolverOptions, simulate
+    net = load_netlist(ROOT / "machines" / "luffing_cylinder.yaml")
+    model0 = build_model(net)
+    cands, _ = catalogue(Context(net, set(model0.free_params)))
+    c = next(c for c in cands if c.key == "load_compliance@cylinder#clearance")
+    assert c.params[0].name == "cylinder_clearance.b" and c.params[0].primary
+    assert not c.params[1].primary and c.params[1].start >= 1e9
+    model = build_model(c.build(net))
+    assert ("cylinder_clearance.d", "balance") in {(r.state, r.kind) for r in model.initial_rules}
+    gap, k = 3e-3, 2.0e6
+    p = model.param_vector({"cylinder_clearance.b": gap, "cylinder_clearance.k": k})
+    t = np.arange(0.0, 0.3, 1e-3)
+    u = np.zeros((1, len(model.input_names)))
+    u[0, model.input_names.index("Ps")] = 1.6e7
+    e = Experiment("rest", "rest.csv", InputTable(np.array([0.0]), u), t, measured={"x": np.full(t.size, 0.2)})
+    x0 = initial_state(model, e, p)
+    weight = -float(model.p0[model.param_index("load.F_const")])
+    d0 = x0[model.state_index("cylinder_clearance.d")]
+    # in contact: half the play plus the contact's deflection under the weight
+    assert abs(d0) == pytest.approx(0.5 * gap + weight / k, rel=0.02)
+    tr = simulate(model, e.inputs, t, p=p, x0=x0, opts=SolverOptions(rtol=1e-7))
+    x = tr.Y[:, model.output_names.index("x")]
+    assert np.abs(x - 0.2).max() < 1e-3
+
+
 def test_rotary_payload_candidate_is_a_new_module_found_by_the_catalogue(tmp_path):
     """Issue 11: a new candidate is one module (candidates/payload.py) the catalogue discovers.
     On a vane drive it adds a swinging inertia J_p on a torsion 'rope' k = J_p·g/L to the arm:

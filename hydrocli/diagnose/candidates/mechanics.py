@@ -32,11 +32,18 @@ K_GRID = 7
 # :func:`_progressive`): its typical values, crossed with the stiffness grid, and its upper bound
 HC_SHAPES = (1.0, 1e4)
 HC_MAX = 1e6
+# A joint's play (total clearance) by domain: (near nothing, upper bound, plausible range, probe).
+# A worn clevis pin or bushing: 0.02–10 mm; a spline or key: 0.2 mrad–0.1 rad (6°)
+PLAY = {Domain.TRANSLATIONAL: (1e-6, 0.02, (2e-5, 0.01), 5e-4),
+        Domain.ROTATIONAL: (1e-5, 0.3, (2e-4, 0.1), 5e-3)}
 
 
 class MechanicsFamily(Family):
     effects = ("load_compliance", "structural_flexibility")
     compliances = frozenset({"load_compliance", "structural_flexibility"})
+    # a rod–load link in two laws: a spring–damper (with its hardening and the joint's dry
+    # friction) and a joint with play (``_clearance``)
+    laws = frozenset({"load_compliance"})
 
     def candidates(self, ctx: Context):
         out = []
@@ -49,15 +56,14 @@ class MechanicsFamily(Family):
                 out.append(Skipped("load_compliance", f"no load (mass or inertia) on the moving node '{node}' of '{act.name}'"))
             else:
                 out.append(self._compliance(ctx, act, node, dom, m))
+                out.append(self._clearance(ctx, act, node, dom, m))
             out.append(self._structure(ctx, act, body, dom, m if m is not None else (100.0 if dom == Domain.TRANSLATIONAL else 1.0)))
         return out or [Skipped(e, "no actuator in the machine") for e in self.effects]
 
     @staticmethod
     def _compliance(ctx: Context, act: Part, rod: str, dom: Domain, m: float):
-        load = A.unique_name(ctx.net, f"{rod}_load")
-        spring, damper, rodm = (A.unique_name(ctx.net, f"{act.name}_{s}") for s in ("coupling", "coupling_damper", "rod_mass"))
-        keep = {f.name for f in ctx.parts_on(rod, R.FRICTION)} | {act.name}
-        ltype, lrole = ctx.element(R.LOAD, dom)
+        load, rodm, keep = _split_names(ctx, act, rod)
+        spring, damper = (A.unique_name(ctx.net, f"{act.name}_{s}") for s in ("coupling", "coupling_damper"))
         stype, srole = ctx.element(R.SPRING, dom)
         dtype, drole = ctx.element(R.DAMPER, dom)
         # the rod side keeps a small mass (piston and rod; the load's mass stays free); the
@@ -66,19 +72,12 @@ class MechanicsFamily(Family):
         # (a mode at some 10–30 Hz for the identified mass or inertia). Bounds scale with the
         # load (K_PER_MASS).
         k_probe = _probe_stiffness(0.3 * m)
-        c0 = 0.2 * (1e7 * 0.1 * m) ** 0.5
+        c0 = _link_damping(m)
         s = m / 100.0
         params = [_stiffness(f"{spring}.{srole.param('stiffness')}", m, k_probe),
                   NewParam(f"{damper}.{drole.param('damping')}", c0, (1.0 * s ** 0.5, 1e5 * s ** 0.5),
                            (1.0 * s ** 0.5, 1e5 * s ** 0.5), 0.3 * c0, True, primary=False)]
-        # what moves WITH the rod, ahead of the link (piston, rod, a clevis, part of a boom or
-        # of an arm), is not known either: its mass or inertia is identified (log scale) with
-        # the link, as a mount's frame mass is: the rod side is what the oil accelerates before
-        # the link has wound up. Started at a tenth of the load, also tried at four tenths. (On
-        # the dev rotary cubic link with 35 % of the inertia ahead of it the fit kept it near
-        # its start, 0.096 against 0.30 kg·m²: the cubic law, not this, closed that case.)
-        params.append(NewParam(f"{rodm}.{lrole.param('inertia')}", 0.1 * m, (0.01 * m, 2.0 * m), (0.01 * m, 2.0 * m),
-                               0.1 * m, True, primary=False, shapes=(0.4 * m,)))
+        params.append(_rod_side(ctx, rodm, dom, m))
         params += _progressive(ctx, act, spring, srole)
         # the joint's own dry friction (a clevis pin or bushing under load, a clamped boom
         # joint): the link sticks while the force through it changes by less than twice that
@@ -91,24 +90,56 @@ class MechanicsFamily(Family):
         params += joint_params
 
         def build(net):
-            net = A.move_node(net, rod, load, keep)
-            net = A.add(net, rodm, ltype, {lrole.port("node"): rod}, {lrole.param("inertia"): 0.1 * m})
+            net = _split_load(ctx, net, rod, load, rodm, keep, dom, m)
             net = A.add(net, spring, stype, {srole.port("a"): rod, srole.port("b"): load})
             net = A.add(net, damper, dtype, {drole.port("a"): rod, drole.port("b"): load}, {drole.param("damping"): c0})
             net = add_joint(net, rod, load)
-            mapping = {f"{rod}.{q}": f"{load}.{q}" for q in (dom.across, dom.position) if q}
-            net = A.rewrite_outputs(net, mapping)
-            net = _move_initial(net, rod, load)
-            # the link starts at rest under its load: the rod where the (measured) load starts,
-            # the spring carrying what holds the load still (its weight) — relaxed, a hanging
-            # load would drop at t = 0 and ring on the link (session 9)
-            net = A.set_initial(net, {**{f"{rod}.{q}": {"same_as": f"{load}.{q}"} for q in (dom.across, dom.position) if q},
-                                      _force_state(spring, stype): {"balance": f"{load}.{dom.across}"}})
+            # the link starts at rest under its load: the spring carrying what holds the load
+            # still (its weight) — relaxed, a hanging load would drop at t = 0 and ring on the
+            # link (session 9)
+            net = A.set_initial(net, {_force_state(spring, stype): {"balance": f"{load}.{dom.across}"}})
             return A.free_new(net, params)
         return Candidate("load_compliance", act.name, params,
                          build, "force", f"elastic coupling between the moving part of '{act.name}' and its load, "
                                          "with the joint's dry friction (motion measured on the load side)",
                          mode=(params[0].name, params[1].name, params[2].name))
+
+    @staticmethod
+    def _clearance(ctx: Context, act: Part, rod: str, dom: Domain, m: float):
+        """The rod–load (shaft–load) joint as a CLEARANCE: the rod side floats across a free
+        play of total width b and meets a stiff, damped contact at either end of it (a worn
+        clevis pin, a spline or key with play; library ``clearance``). A law of the rod–load
+        link, not another effect: the spring–damper is stiff or soft at every load, a play is
+        free while the force through the joint reverses and rigid once it is taken up — what a
+        reversing drive shows as a dead stroke and a knock. The play is the primary (log
+        scale, from near nothing, four starts over its plausible range); the contact's
+        stiffness starts rigid, its damping as the spring–damper's, the rod side's mass as
+        there."""
+        load, rodm, keep = _split_names(ctx, act, rod)
+        joint = A.unique_name(ctx.net, f"{act.name}_clearance")
+        jtype, jrole = ctx.element(R.CLEARANCE, dom)
+        lo, hi, plausible, probe = PLAY[dom]
+        c0 = _link_damping(m)
+        s = m / 100.0
+        params = [NewParam(f"{joint}.{jrole.param('gap')}", lo, (lo, hi), plausible, probe, True),
+                  _stiffness(f"{joint}.{jrole.param('stiffness')}", m, 1e7 * m, primary=False),
+                  NewParam(f"{joint}.{jrole.param('damping')}", c0, (1.0 * s ** 0.5, 1e5 * s ** 0.5),
+                           (1.0 * s ** 0.5, 1e5 * s ** 0.5), c0, True, primary=False),
+                  _rod_side(ctx, rodm, dom, m)]
+
+        def build(net):
+            net = _split_load(ctx, net, rod, load, rodm, keep, dom, m)
+            net = A.add(net, joint, jtype, {jrole.port("a"): rod, jrole.port("b"): load},
+                        {jrole.param("gap"): lo, jrole.param("damping"): c0})
+            # in contact under its load at the start (the play taken up on the side the load
+            # pushes, as far as the contact carries it): the deflection that holds the load still
+            net = A.set_initial(net, {f"{joint}.d": {"balance": f"{load}.{dom.across}"}})
+            return A.free_new(net, params)
+        return Candidate("load_compliance", act.name, params, build, "force",
+                         f"play (backlash) in the joint between the moving part of '{act.name}' and its load: "
+                         "free across the clearance, a stiff damped contact at either end (motion measured on "
+                         "the load side)", variant="clearance",
+                         mode=(params[1].name, params[2].name, params[3].name))
 
     @staticmethod
     def _structure(ctx: Context, act: Part, body: str | None, dom: Domain, m: float):
@@ -187,6 +218,46 @@ def dry_joint(ctx: Context, act: Part, dom: Domain, stem: str):
     return params, add
 
 
+def _split_names(ctx: Context, act: Part, rod: str) -> tuple[str, str, set]:
+    """The new load node, the rod side's mass, and what stays on the rod (the actuator and the
+    friction on the rod: seals rub between the rod and the body, not on the load)."""
+    load = A.unique_name(ctx.net, f"{rod}_load")
+    rodm = A.unique_name(ctx.net, f"{act.name}_rod_mass")
+    return load, rodm, {f.name for f in ctx.parts_on(rod, R.FRICTION)} | {act.name}
+
+
+def _split_load(ctx: Context, net, rod: str, load: str, rodm: str, keep: set, dom: Domain, m: float):
+    """The load (its mass or inertia and what acts on it) moved from the rod's node to
+    ``load``; the rod keeps a small mass ``rodm``; position and velocity outputs read the load
+    side; the rod starts where (and as fast as) the load does. The link between them is the
+    caller's."""
+    ltype, lrole = ctx.element(R.LOAD, dom)
+    net = A.move_node(net, rod, load, keep)
+    net = A.add(net, rodm, ltype, {lrole.port("node"): rod}, {lrole.param("inertia"): 0.1 * m})
+    mapping = {f"{rod}.{q}": f"{load}.{q}" for q in (dom.across, dom.position) if q}
+    net = A.rewrite_outputs(net, mapping)
+    net = _move_initial(net, rod, load)
+    return A.set_initial(net, {f"{rod}.{q}": {"same_as": f"{load}.{q}"} for q in (dom.across, dom.position) if q})
+
+
+def _rod_side(ctx: Context, rodm: str, dom: Domain, m: float) -> NewParam:
+    """What moves WITH the rod, ahead of the link (piston, rod, a clevis, part of a boom or of
+    an arm), is not known either: its mass or inertia is identified (log scale) with the link,
+    as a mount's frame mass is: the rod side is what the oil accelerates before the link has
+    wound up. Started at a tenth of the load, also tried at four tenths. (On the dev rotary
+    cubic link with 35 % of the inertia ahead of it the fit kept it near its start, 0.096
+    against 0.30 kg·m²: the cubic law, not this, closed that case.)"""
+    _, lrole = ctx.element(R.LOAD, dom)
+    return NewParam(f"{rodm}.{lrole.param('inertia')}", 0.1 * m, (0.01 * m, 2.0 * m), (0.01 * m, 2.0 * m),
+                    0.1 * m, True, primary=False, shapes=(0.4 * m,))
+
+
+def _link_damping(m: float) -> float:
+    """A rod–load link's damping start: a fifth of critical for the rod side (a tenth of the
+    load) on a rigid link (10⁷ s⁻² × the load)."""
+    return 0.2 * (1e7 * 0.1 * m) ** 0.5
+
+
 def _progressive(ctx: Context, act: Part, spring: str, srole) -> list[NewParam]:
     """The new spring's cubic hardening hc (the Duffing spring F = k·d·(1 + hc·(k·d)²/3), i.e.
     k₃ = hc·k³/3; a companion, log scale) fitted WITH the compliance: a rubber bushing or a
@@ -216,10 +287,12 @@ def _progressive(ctx: Context, act: Part, spring: str, srole) -> list[NewParam]:
                      primary=False, shapes=tuple(h / f2 for h in HC_SHAPES), basins=True)]
 
 
-def _stiffness(name: str, m: float, probe: float) -> NewParam:
-    """A compliance's stiffness (log scale, primary), started rigid (10⁷ s⁻² × the load)."""
+def _stiffness(name: str, m: float, probe: float, primary: bool = True) -> NewParam:
+    """A compliance's stiffness (log scale, primary unless told), started rigid (10⁷ s⁻² × the
+    load)."""
     lo, hi = K_PER_MASS
-    return NewParam(name, 1e7 * m, (lo * m, hi * m), (lo * m, K_PER_MASS_PLAUSIBLE * m), probe, True, grid=K_GRID)
+    return NewParam(name, 1e7 * m, (lo * m, hi * m), (lo * m, K_PER_MASS_PLAUSIBLE * m), probe, True,
+                    primary=primary, grid=K_GRID)
 
 
 def _probe_stiffness(mass: float) -> float:
