@@ -34,12 +34,15 @@ def test_a_mount_and_a_rod_load_link_name_the_spring_damper_and_mass_of_their_mo
     inertia in the built machine (found by their roles), and the ratio is c / (2·√(k·m))."""
     net = load_netlist(ROOT / "machines" / "luffing_cylinder.yaml")
     ctx = Context(net, set(), {"rod": (0.1, 0.4)}, {"x": "position", "P1": "pressure"}, {"u": 0.0})
-    cands = {c.effect: c for c in catalogue(ctx)[0]}
-    for effect in ("structural_flexibility", "load_compliance"):
-        c = cands[effect]
+    every = catalogue(ctx)[0]
+    cands = {c.effect: c for c in every if not c.variant}
+    play = next(c for c in every if c.key == "load_compliance@cylinder#clearance")
+    for effect, c, roles in [("structural_flexibility", cands["structural_flexibility"], (R.SPRING, R.DAMPER, R.LOAD)),
+                             ("load_compliance", cands["load_compliance"], (R.SPRING, R.DAMPER, R.LOAD)),
+                             ("load_compliance (play)", play, (R.CLEARANCE, R.CLEARANCE, R.LOAD))]:
         built = c.build(net)
         slots = []
-        for name, role in zip(c.mode, (R.SPRING, R.DAMPER, R.LOAD)):
+        for name, role in zip(c.mode, roles):
             comp, _, param = name.rpartition(".")
             spec = registry.get(built.components[comp].type).role(role)
             slots.append(next(s for s in ("stiffness", "damping", "inertia") if spec.param(s) == param))
