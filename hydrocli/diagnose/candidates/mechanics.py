@@ -73,10 +73,8 @@ class MechanicsFamily(Family):
         # load (K_PER_MASS).
         k_probe = _probe_stiffness(0.3 * m)
         c0 = _link_damping(m)
-        s = m / 100.0
         params = [_stiffness(f"{spring}.{srole.param('stiffness')}", m, k_probe),
-                  NewParam(f"{damper}.{drole.param('damping')}", c0, (1.0 * s ** 0.5, 1e5 * s ** 0.5),
-                           (1.0 * s ** 0.5, 1e5 * s ** 0.5), 0.3 * c0, True, primary=False)]
+                  _link_damper(f"{damper}.{drole.param('damping')}", m, 0.3)]
         params.append(_rod_side(ctx, rodm, dom, m))
         params += _progressive(ctx, act, spring, srole)
         # the joint's own dry friction (a clevis pin or bushing under load, a clamped boom
@@ -120,11 +118,9 @@ class MechanicsFamily(Family):
         jtype, jrole = ctx.element(R.CLEARANCE, dom)
         lo, hi, plausible, probe = PLAY[dom]
         c0 = _link_damping(m)
-        s = m / 100.0
         params = [NewParam(f"{joint}.{jrole.param('gap')}", lo, (lo, hi), plausible, probe, True),
                   _stiffness(f"{joint}.{jrole.param('stiffness')}", m, 1e7 * m, primary=False),
-                  NewParam(f"{joint}.{jrole.param('damping')}", c0, (1.0 * s ** 0.5, 1e5 * s ** 0.5),
-                           (1.0 * s ** 0.5, 1e5 * s ** 0.5), c0, True, primary=False),
+                  _link_damper(f"{joint}.{jrole.param('damping')}", m, 1.0),
                   _rod_side(ctx, rodm, dom, m)]
 
         def build(net):
@@ -256,6 +252,13 @@ def _link_damping(m: float) -> float:
     """A rod–load link's damping start: a fifth of critical for the rod side (a tenth of the
     load) on a rigid link (10⁷ s⁻² × the load)."""
     return 0.2 * (1e7 * 0.1 * m) ** 0.5
+
+
+def _link_damper(name: str, m: float, probe_share: float) -> NewParam:
+    """A rod–load link's damping (log scale, a companion) from :func:`_link_damping`, within
+    1 … 10⁵ × √(m/100); the screening probe at ``probe_share`` of the start."""
+    c0, s = _link_damping(m), (m / 100.0) ** 0.5
+    return NewParam(name, c0, (1.0 * s, 1e5 * s), (1.0 * s, 1e5 * s), probe_share * c0, True, primary=False)
 
 
 def _progressive(ctx: Context, act: Part, spring: str, srole) -> list[NewParam]:
