@@ -70,14 +70,33 @@ def test_a_correct_model_passes_the_check_and_a_drifting_gain_is_named(model):
 
 
 def test_polish_moves_a_loose_tolerance_fit_to_the_tight_tolerance_optimum(model):
-    """Searched at rtol 1e-4, the estimates carry the integrator's error; the polish (residuals
-    at rtol 1e-6) lands where a search at rtol 1e-10 lands."""
+    """Searched at rtol 1e-4 (nominal error control, steps crossing the 1 kHz input's kinks),
+    the estimates carry the integrator's error: here 70 and 400 standard errors. The polish
+    (residuals at rtol 1e-6) lands where a search at rtol 1e-10 lands, up to the integrator's
+    error at its own tolerance: a full search at rtol 1e-6 lands 0.7 standard errors from it,
+    and where inside that band depends on how the steps fall on the kinks, i.e. on rounding
+    (0.3 σ on one machine, 1.2 σ on another). So: within 2 σ, and ≥ 50× closer than the loose
+    search. The reference itself is checked against scipy.signal.lsim, which is exact for
+    linearly interpolated inputs."""
     exp = _experiment(model)
     ref = fit(model, [exp], opts=SolverOptions(rtol=1e-10), polish=False)
     loose = fit(model, [exp], opts=SolverOptions(rtol=1e-4), polish=False)
     pol = fit(model, [exp], opts=SolverOptions(rtol=1e-4))
-    err_loose = np.abs(loose.estimates / ref.estimates - 1)
-    err_pol = np.abs(pol.estimates / ref.estimates - 1)
+    exact = _lsim_optimum(exp, ref.estimates)
+    assert np.all(np.abs(ref.estimates - exact) < 0.1 * ref.stderr)
+    err_loose = np.abs(loose.estimates - ref.estimates)
+    err_pol = np.abs(pol.estimates - ref.estimates)
     assert "polished at rtol 1e-06" in pol.message
-    assert np.all(err_pol < err_loose / 2)
-    assert np.all(np.abs(pol.estimates - ref.estimates) < 0.5 * ref.stderr)
+    assert np.all(err_loose > 20 * ref.stderr)          # the search's bias is real
+    assert np.all(err_pol < err_loose / 50)
+    assert np.all(err_pol < 2 * ref.stderr)
+
+
+def _lsim_optimum(exp: Experiment, start: np.ndarray) -> np.ndarray:
+    """(k, τ₂) minimising Σ(y − ŷ)² with ŷ from scipy.signal.lsim of k / ((0.05 s + 1)(τ₂ s + 1))."""
+    from scipy import optimize, signal
+    t, u, y = exp.t_out, exp.inputs.U[:, 0], exp.measured["z"]
+
+    def resid(q):
+        return signal.lsim(signal.lti([q[0]], [0.05 * q[1], 0.05 + q[1], 1.0]), u, t)[1] - y
+    return optimize.least_squares(resid, start * 1.02, x_scale=start, xtol=1e-13, ftol=1e-13).x
