@@ -75,7 +75,8 @@ def test_polish_moves_a_loose_tolerance_fit_to_the_tight_tolerance_optimum(model
     (residuals at rtol 1e-6) lands where a search at rtol 1e-10 lands, up to the integrator's
     error at its own tolerance: a full search at rtol 1e-6 lands 0.7 standard errors from it,
     and where inside that band depends on how the steps fall on the kinks, i.e. on rounding
-    (0.3 σ on one machine, 1.2 σ on another). So: within 2 σ, and ≥ 50× closer than the loose
+    (0.3 σ on one machine, 1.2 σ on another, 1.9 σ from the rtol-1e-6 search's own optimum:
+    four Gauss–Newton steps from 400 σ away). So: within 3 σ, and ≥ 50× closer than the loose
     search. The reference itself is checked against scipy.signal.lsim, which is exact for
     linearly interpolated inputs."""
     exp = _experiment(model)
@@ -89,7 +90,7 @@ def test_polish_moves_a_loose_tolerance_fit_to_the_tight_tolerance_optimum(model
     assert "polished at rtol 1e-06" in pol.message
     assert np.all(err_loose > 20 * ref.stderr)          # the search's bias is real
     assert np.all(err_pol < err_loose / 50)
-    assert np.all(err_pol < 2 * ref.stderr)
+    assert np.all(err_pol < 3 * ref.stderr)
 
 
 def _lsim_optimum(exp: Experiment, start: np.ndarray) -> np.ndarray:
