@@ -54,6 +54,8 @@ dissolving_air     ports node (and motion, reference in a chamber whose volume f
                    chamber's growth per unit of travel)
 band_restriction   ports a, b, motion, reference; params conductance (laminar, inside the band),
                    band_start, band_end (positions), edge (width of the band's edges)
+film_restriction   ports a, b, motion, reference; params conductance (laminar, at the reference
+                   speed), exponent (of the speed), speed (the reference speed): a sliding seal's leak
 weight             ports node; params weight (a gravity load's force or moment), hanging (a
                    pendulum load's angle from hanging straight down at θ = 0)
 pendulum           ports node; params inertia (m_p·r²), length (the rope's), radius (the arm's
@@ -78,6 +80,7 @@ GAS_VOLUME = "gas_volume"
 RESTRICTION = "restriction"
 LAMINAR_RESTRICTION = "laminar_restriction"
 BAND_RESTRICTION = "band_restriction"
+FILM_RESTRICTION = "film_restriction"
 RELIEF = "relief"
 DISSOLVING_AIR = "dissolving_air"
 END_CUSHION = "end_cushion"
