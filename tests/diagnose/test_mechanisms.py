@@ -1377,3 +1377,44 @@ def test_a_payload_whose_swing_no_rope_makes_is_implausible():
     one_hz = judged(20.0 * (2 * math.pi) ** 2, 20.0)
     assert one_hz["passed"], one_hz["reasons"]
     assert payload.F_RANGE[0] < 0.1 and payload._swing_outside(20.0 * (2 * math.pi * 31) ** 2, 20.0)
+
+
+def test_a_compensated_pump_dips_after_a_demand_and_returns_to_its_set_pressure():
+    """The second law of the supply (CircuitFamily._compensator): on the lift, a command step
+    at 0.1 s opens the spool at its rate limit over 0.2 s; the rising demand draws the valve's
+    supply pressure down (by k·τ·q′ while the flow ramps, the high-pass of the law) and once
+    the flow is steady the pump's control brings it back to the set pressure within a few τ
+    while the rod still moves, where the restriction law would hold its drop for as long as
+    the flow lasts; at its start value the law leaves the machine as it was (≤ 0.01 bar)."""
+    from hydrocli.diagnose.candidates import LAWS
+    from hydrocli.experiments.experiment import Experiment
+    from hydrocli.experiments.initial import initial_state
+    from hydrocli.solve.simulate import InputTable, SolverOptions, simulate
+    net = load_netlist(ROOT / "machines" / "luffing_cylinder.yaml")
+    model0 = build_model(net)
+    ps = 1.6e7
+    cands, _ = catalogue(Context(net, set(model0.free_params), inputs_start={"Ps": ps}))
+    assert "supply_pressure_drop" in LAWS and "supply_pressure_drop@supply" in {c.key for c in cands}
+    c = next(c for c in cands if c.key == "supply_pressure_drop@supply#compensator")
+    k, tau = c.params
+    assert k.primary and not tau.primary and k.start < 1e-3 * k.probe
+    model = build_model(c.build(net))
+    t = np.arange(0.0, 0.8, 1e-3)
+    u = np.zeros((t.size, len(model.input_names)))
+    u[:, model.input_names.index("Ps")] = ps
+    u[t >= 0.1, model.input_names.index("u")] = 2.0
+    e = Experiment("step", "step.csv", InputTable(t, u), t, measured={"x": np.zeros(t.size)})
+    ip = model.state_index("supply_line.p")
+
+    def run(kv, tv=0.03):
+        p = model.param_vector({k.name: kv, tau.name: tv})
+        tr = simulate(model, e.inputs, t, p=p, x0=initial_state(model, e, p), opts=SolverOptions(rtol=1e-7))
+        return tr.X[:, ip], tr.X[:, model.state_index("rod.x")]
+
+    off, _ = run(k.start)
+    assert np.abs(off - ps).max() < 1e3
+    p_v, x = run(k.probe)
+    dip = ps - p_v.min()
+    assert dip > 1e5                                        # the demand pulls the supply down
+    assert abs(p_v[-1] - ps) < 0.02 * dip                   # and the control brings it back
+    assert x[-1] - x[600] > 0.05                            # while the rod still moves
