@@ -101,13 +101,11 @@ class CircuitFamily(Family):
         and accumulator capacity behind it at the valve's P port. Sized from the valve's own
         flow coefficient: the drop is (Kv_valve/Kv_supply)² of the valve's, so the orifice
         starts at 30× Kv_valve (drop 0.1 %, no effect) and is probed at 1.5× (drop ~45 %)."""
-        if node is None:
-            return Skipped("supply_pressure_drop", f"'{valve}' has no supply port")
-        srcs = ctx.parts_on(node, R.PRESSURE_SOURCE, "out")
-        if not srcs:
-            return Skipped("supply_pressure_drop", f"no pressure source at the supply of '{valve}'")
-        src = [srcs[0].name]
-        out_port = srcs[0].role.port("out")
+        found = _supply_source(ctx, valve, node)
+        if isinstance(found, Skipped):
+            return found
+        src = [found.name]
+        out_port = found.role.port("out")
         kv = valve_kv(ctx, valve)
         orf = A.unique_name(ctx.net, "supply_orifice")
         vol = A.unique_name(ctx.net, "supply_volume")
@@ -121,7 +119,7 @@ class CircuitFamily(Family):
                   # are crossed with a laminar one (Δp_lam 30 bar: linear over a supply's drops)
                   NewParam(f"{orf}.dp_lam", DP_LAM, DP_LAM_BOUNDS, DP_LAM_BOUNDS, DP_LAM, True, primary=False,
                            shapes=(LAMINAR_SHAPE,), limits=True)]
-        p_start = _source_pressure(ctx, srcs[0])
+        p_start = _source_pressure(ctx, found)
 
         def build(net):
             net = A.connect(net, src[0], out_port, new)
@@ -144,17 +142,15 @@ class CircuitFamily(Family):
         flow Kv·√p_s; started at 10⁻⁴·k_ref (no effect), probed at 0.2·k_ref. The control's
         time constant is a companion (log scale, starts 10, 50 and 200 ms). The pump starts
         delivering what the valve draws (``z`` balanced on the P port's pressure)."""
-        if node is None:
-            return Skipped("supply_pressure_drop", f"'{valve}' has no supply port")
-        srcs = ctx.parts_on(node, R.PRESSURE_SOURCE, "out")
-        if not srcs:
-            return Skipped("supply_pressure_drop", f"no pressure source at the supply of '{valve}'")
+        found = _supply_source(ctx, valve, node)
+        if isinstance(found, Skipped):
+            return found
         try:
             typ, role = ctx.element(R.PUMP_COMPENSATOR, ctx.domain(node) or Domain.HYDRAULIC)
         except KeyError:
             return Skipped("supply_pressure_drop", "no pump compensator in the library")
-        src, out_port = srcs[0].name, srcs[0].role.port("out")
-        p_start = _source_pressure(ctx, srcs[0])
+        src, out_port = found.name, found.role.port("out")
+        p_start = _source_pressure(ctx, found)
         k_ref = max(p_start or 1e7, 1e5) ** 0.5 / valve_kv(ctx, valve)
         comp = A.unique_name(ctx.net, "supply_compensator")
         vol = A.unique_name(ctx.net, "supply_manifold")
@@ -177,6 +173,17 @@ class CircuitFamily(Family):
                          f"a pressure-compensated pump at the supply of '{valve}' whose displacement control "
                          "lags: the pressure dips after a flow demand and recovers, no steady droop",
                          variant="compensator")
+
+
+def _supply_source(ctx: Context, valve: str, node: str | None) -> Part | Skipped:
+    """The pressure source feeding ``valve``'s supply port ``node`` (the first one there), or
+    why a supply law cannot be offered."""
+    if node is None:
+        return Skipped("supply_pressure_drop", f"'{valve}' has no supply port")
+    srcs = ctx.parts_on(node, R.PRESSURE_SOURCE, "out")
+    if not srcs:
+        return Skipped("supply_pressure_drop", f"no pressure source at the supply of '{valve}'")
+    return srcs[0]
 
 
 def valve_kv(ctx: Context, valve: str) -> float:
