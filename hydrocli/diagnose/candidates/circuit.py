@@ -131,7 +131,6 @@ class CircuitFamily(Family):
                          f"pressure drop in the supply line of '{valve}' (a restriction, turbulent or laminar, "
                          "+ line/accumulator volume)")
 
-
     @staticmethod
     def _compensator(ctx: Context, valve: str, node: str | None):
         """The supply as a pressure-compensated pump whose displacement control lags behind a
@@ -145,10 +144,7 @@ class CircuitFamily(Family):
         found = _supply_source(ctx, valve, node)
         if isinstance(found, Skipped):
             return found
-        try:
-            typ, role = ctx.element(R.PUMP_COMPENSATOR, ctx.domain(node) or Domain.HYDRAULIC)
-        except KeyError:
-            return Skipped("supply_pressure_drop", "no pump compensator in the library")
+        typ, role = ctx.element(R.PUMP_COMPENSATOR, Domain.HYDRAULIC)
         src, out_port = found.name, found.role.port("out")
         p_start = _source_pressure(ctx, found)
         k_ref = max(p_start or 1e7, 1e5) ** 0.5 / valve_kv(ctx, valve)
@@ -161,8 +157,7 @@ class CircuitFamily(Family):
 
         def build(net):
             net = A.connect(net, src, out_port, new)
-            net = A.add(net, comp, typ, {role.port("a"): new, role.port("b"): node},
-                        {role.param("dip"): 1e-4 * k_ref, role.param("lag"): 0.05})
+            net = A.add(net, comp, typ, {role.port("a"): new, role.port("b"): node})
             net = A.add(net, vol, "volume", {"P": node}, {"V": COMPENSATOR_VOLUME})
             net = A.free_new(net, params)
             start = {f"{comp}.z": {"balance": f"{node}.p"}}
