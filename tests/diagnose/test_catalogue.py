@@ -210,14 +210,15 @@ def test_augmented_document_is_the_machine_its_text_loads(machine):
 def test_a_leak_is_offered_in_both_laws_from_the_first_round(machine):
     """A fine clearance leaks laminarly, a worn seal turbulently: both laws of the internal and
     the external leak are candidates from the start (the file's leak coefficient fixed at 0),
-    each building a machine with its own new parameters free (the seals and the weeping
-    reliefs beside them: tests/diagnose/test_weeping_relief.py)."""
+    each building a machine with its own new parameters free (the seals, the weeping
+    reliefs and the film leaks beside them: tests/diagnose/test_weeping_relief.py,
+    tests/diagnose/test_film_leak_candidate.py)."""
     net, _ = with_pressure_sensors(load_netlist(MACHINE.parent / machine))
     model = build_model(net)
     ctx = Context(net, set(model.free_params), {}, {})
     cands, _ = catalogue(ctx)
     for effect in ("internal_leakage", "external_leakage"):
-        forms = [c for c in cands if c.effect == effect and c.variant not in ("rod_seal", "rod_seals", "relief")]
+        forms = [c for c in cands if c.effect == effect and c.variant not in ("rod_seal", "rod_seals", "relief", "film")]
         assert len(forms) == 2 and forms[1].variant == "orifice", [c.key for c in forms]
         assert forms[0].variant != "orifice" and len({c.key for c in forms}) == 2
         assert {p.name for p in forms[0].params}.isdisjoint({p.name for p in forms[1].params})

@@ -12,9 +12,12 @@ from ..roles import role
 
 
 def film_factor(v, v_ref, v_eps, n):
-    """φ(v) = (√(v² + v_ε²) / v_ref)ⁿ: 1 at the reference speed, (v_ε/v_ref)ⁿ ≈ 0 at
-    standstill, smooth through v = 0 (v_ε ≪ the speeds of interest)."""
-    return E.power((v * v + v_eps * v_eps) / (v_ref * v_ref), 0.5 * n)
+    """φ(v) = v²/(v² + v_ε²) · (√(v² + v_ε²)/v_ref)ⁿ: 1 at the reference speed, (|v|/v_ref)ⁿ
+    wherever |v| ≫ v_ε, and 0 at standstill, smooth through v = 0 (the lip seals a rod at rest:
+    a bare (√(v² + v_ε²)/v_ref)ⁿ would leak (v_ε/v_ref)ⁿ, a tenth of the reference leak at
+    n = ½ and v_ε = v_ref/100, in every hold)."""
+    s2 = v * v + v_eps * v_eps
+    return v * v / s2 * E.power(s2 / (v_ref * v_ref), 0.5 * n)
 
 
 def film_params(unit: str, speed: str, v_ref: float, v_eps: float) -> tuple[Param, ...]:

@@ -69,6 +69,9 @@ class CylinderFamily(Family):
             weep = _weeping_reliefs(ctx, act, [a, b], k)
             if weep is not None:
                 out.append(weep)
+            film = _film_leaks(ctx, act, a, b, k)
+            if film is not None:
+                out.append(film)
             out.append(self._air(ctx, act, a, b))
             pockets = _air_pockets(ctx, act, [a, b])
             if pockets is not None:
@@ -478,6 +481,53 @@ def _weeping_reliefs(ctx: Context, act: Part, nodes: list[str], k: float) -> Can
     return Candidate("external_leakage", act.name, params, build, "continuity",
                      "a weeping relief poppet from each chamber to drain, closed below its cracking pressure: "
                      "q = K·max(p − p_T − p_cr, 0)·√(p − p_T)", variant="relief")
+
+
+FILM_EXPONENTS = (0.5, 1.5)   # the film law's speed exponents the fit starts from: a leak through a film
+                              # whose thickness grows as √v, and a Poiseuille flow through it (∝ h³)
+
+
+def _film_leaks(ctx: Context, act: Part, a: str, b: str, k: float) -> Candidate | None:
+    """External leakage that flows only while the actuator MOVES: a rod (shaft) seal riding on a
+    hydrodynamic film that thickens with the sliding speed (library ``film_restriction``:
+    :class:`~hydrocli.components.hydraulic.film_leak.FilmLeak`), q = c·(√(v² + v_ε²)/v_ref)ⁿ·(p − p_T)
+    from each sealed chamber to drain (Müller & Nau, *Fluid Sealing Technology* (1998);
+    n = ½ a leak proportional to the film's thickness h ∝ √v, 3/2 a Poiseuille flow through it).
+
+    What tells it from a seal's leak driven by pressure alone is WHEN the chamber drains: at
+    standstill under load it holds (no drift in a hold), in motion it loses oil in proportion
+    to the speed's power, whatever the valve does — a move coasting with the valve closed loses
+    it too, so an edge that meters differently (a valve asymmetry, which the laws driven by
+    pressure alone left to stand in: session 64's winch probe) cannot mimic it. The seals are
+    the rod side's of a single-rod cylinder (its piston side has none), both ends' of a double
+    rod, a vane's or a motor's two shaft seals; each conductance may stay at "off" (primary, as
+    the rod seals' are), ranged as the laminar seal's at the reference speed (the library's:
+    0.1 m/s, 1 rad/s), the exponent a companion started at ½ and 3/2. None without a tank, the
+    actuator's motion and reference, or a library type."""
+    tank, motion, ref = _tank_node(ctx), act.node("motion"), act.node("reference")
+    if tank is None or motion is None or ref is None:
+        return None
+    try:
+        typ, role = ctx.element(R.FILM_RESTRICTION, ctx.domain(motion), slot="motion")
+    except KeyError:
+        return None
+    rod_side = _rod_side(ctx, act)
+    nodes = [act.node(rod_side)] if rod_side is not None else [a, b]
+    names = [A.unique_name(ctx.net, f"{act.name}_film_{i + 1}") for i in range(len(nodes))]
+    c, n_exp = role.param("conductance"), role.param("exponent")
+    params = [NewParam(f"{n}.{c}", 1e-14 * k, (1e-15 * k, 1e-9 * k), (5e-15 * k, 5e-10 * k), 1e-11 * k, True)
+              for n in names]
+    params += [NewParam(f"{n}.{n_exp}", FILM_EXPONENTS[0], (0.1, 3.0), (0.1, 3.0), FILM_EXPONENTS[0], primary=False,
+                        ref=FILM_EXPONENTS[0], shapes=FILM_EXPONENTS[1:]) for n in names]
+
+    def build(net):
+        for n, node in zip(names, nodes):
+            net = A.add(net, n, typ, {role.port("a"): node, role.port("b"): tank, role.port("motion"): motion,
+                                      role.port("reference"): ref}, {c: 1e-14 * k, n_exp: FILM_EXPONENTS[0]})
+        return A.free_new(net, params)
+    return Candidate("external_leakage", act.name, params, build, "continuity",
+                     "rod/shaft seals leaking to drain through their film, only while the actuator moves: "
+                     "q = c·(|v|/v_ref)ⁿ·(p − p_T)", variant="film")
 
 
 def _supply_pressure(ctx: Context) -> float:
