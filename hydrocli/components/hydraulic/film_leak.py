@@ -34,7 +34,7 @@ def film_params(unit: str, speed: str, v_ref: float, v_eps: float) -> tuple[Para
 
 @register
 class FilmLeak(Component):
-    """q = c·φ(v)·(p_A − p_B) from A to B, φ(v) = (√(v² + v_ε²)/v_ref)ⁿ (:func:`film_factor`),
+    """q = c·φ(v)·(p_A − p_B) from A to B, φ(v) ≈ (|v|/v_ref)ⁿ, 0 at rest (:func:`film_factor`),
     v = v_rod − v_body: a reciprocating seal rides on a hydrodynamic film of thickness
     h ∝ √(μ·v/w′_max) (inverse hydrodynamic lubrication; Müller & Nau, *Fluid Sealing
     Technology* (1998) ch. 11; Nikas, J. Tribology 125 (2003)), so it seals at standstill and
