@@ -246,3 +246,36 @@ def test_a_companion_of_an_element_left_off_is_unused_not_pushed():
     pushed = dict(one_sided, estimates=[3.0, SPLIT[1], 0.05, 0.5])
     verdict = accept.judge(cand(), pushed, 1.0, 500, 10.0, 2.0, 0.2)
     assert not verdict["passed"] and any("line_A.split ended at a bound" in r for r in verdict["reasons"])
+
+
+def _viscous():
+    """A viscous coefficient ranged over six decades from 0 (friction._law on a winch motor)."""
+    return Candidate("viscous_friction", "friction", [NewParam("f.b", 0.38, (0.0, 3.8e4), (0.038, 3.8e4), 190.0)],
+                     lambda n: n, "force", "test")
+
+
+def _fit_b(value, se, cost):
+    return {"names": ["f.b"], "estimates": [value], "stderr": [se], "cost": cost}
+
+
+def test_an_estimate_resolved_inside_its_bound_is_not_at_it():
+    """0.1 % of a six-decade range from 0 is 38 N·m·s/rad: a coefficient of 3.44 resolved to
+    ±0.05 sits 69 standard errors inside the bound 0, at an interior minimum of the cost; the
+    range's scale alone must not call it "ended at a bound" (dev winch shear-thinning drag)."""
+    resolved = accept.judge(_viscous(), _fit_b(3.44, 0.05, 0.2), 1.0, 500, 10.0, 2.0, 0.2)
+    assert resolved["passed"], resolved["reasons"]
+    # the same estimate with a standard error that reaches the bound: the bound may have stopped it
+    reaching = accept.judge(_viscous(), _fit_b(3.44, 2.0, 0.2), 1.0, 500, 10.0, 2.0, 0.2)
+    assert any("bound" in r for r in reaching["reasons"])
+    # unknown standard error: the range's test alone, as before
+    unknown = accept.judge(_viscous(), _fit_b(3.44, float("nan"), 0.2), 1.0, 500, 10.0, 2.0, 0.2)
+    assert any("bound" in r for r in unknown["reasons"])
+
+
+def test_the_bound_test_needs_both_the_range_and_the_standard_error():
+    assert accept._at_bound(3.44, (0.0, 3.8e4), False)                 # range alone
+    assert not accept._at_bound(3.44, (0.0, 3.8e4), False, 0.05)       # 69 σ inside
+    assert accept._at_bound(3.44, (0.0, 3.8e4), False, 1.5)            # 2.3 σ: may be held
+    assert not accept._at_bound(500.0, (0.0, 3.8e4), False, 0.001)     # far in the range: never
+    assert accept._at_bound(3.8e4 * (1 - 1e-7), (0.0, 3.8e4), False, 1.0)   # pressed on the top
+    assert not accept._at_bound(1.01e5 * 1.0, (1e5, 1e10), True, 10.0)       # log: 100 σ inside
