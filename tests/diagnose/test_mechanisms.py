@@ -1418,3 +1418,17 @@ def test_a_compensated_pump_dips_after_a_demand_and_returns_to_its_set_pressure(
     assert dip > 1e5                                        # the demand pulls the supply down
     assert abs(p_v[-1] - ps) < 0.02 * dip                   # and the control brings it back
     assert x[-1] - x[600] > 0.05                            # while the rod still moves
+
+
+def test_held_out_errors_equal_within_the_noise_leave_the_choice_to_training_bic():
+    """Dev winch s189, a command through a lag cascade: an input delay (ΔBIC −4068) and a spool's
+    hysteresis (−4047) predicted the held-out record to 0.0003 % of each other (band 0.066 %);
+    that difference is noise, and the training BIC names the delay. A held-out difference of
+    a fifth of the band still decides for the held-out data."""
+    from hydrocli.diagnose.ranking import rank_passing as _rank_passing
+    hyst = (-4047.0, SimpleNamespace(effect="valve_hysteresis"), {"esr_validation": {"P1": 0.132097, "P2": 0.128612}})
+    delay = (-4068.0, SimpleNamespace(effect="input_delay"), {"esr_validation": {"P1": 0.132315, "P2": 0.128700}})
+    assert _rank_passing([hyst, delay], band=0.0657)[0] is delay
+    assert _rank_passing([hyst, delay])[0] is hyst                         # no band: the held-out order
+    clear = (-4047.0, SimpleNamespace(effect="valve_hysteresis"), {"esr_validation": {"P1": 0.119, "P2": 0.128612}})
+    assert _rank_passing([clear, delay], band=0.0657)[0] is clear            # 0.0133 % apart: held-out decides
