@@ -3,13 +3,12 @@ from hydrocli.diagnose import accept
 from hydrocli.diagnose.candidates import Candidate, NewParam
 
 
-def _cand():
-    return Candidate("coulomb_friction", "friction", [NewParam("f.kc", 1.0, (0.0, 5000.0), (10.0, 5000.0), 400.0)],
-                     lambda n: n, "force", "test")
+def _cand(effect="coulomb_friction", param=NewParam("f.kc", 1.0, (0.0, 5000.0), (10.0, 5000.0), 400.0)):
+    return Candidate(effect, "friction", [param], lambda n: n, "force", "test")
 
 
-def _fit(value, se, cost):
-    return {"names": ["f.kc"], "estimates": [value], "stderr": [se], "cost": cost}
+def _fit(value, se, cost, name="f.kc"):
+    return {"names": [name], "estimates": [value], "stderr": [se], "cost": cost}
 
 
 def test_accepts_a_clear_improvement():
@@ -250,12 +249,11 @@ def test_a_companion_of_an_element_left_off_is_unused_not_pushed():
 
 def _viscous():
     """A viscous coefficient ranged over six decades from 0 (friction._law on a winch motor)."""
-    return Candidate("viscous_friction", "friction", [NewParam("f.b", 0.38, (0.0, 3.8e4), (0.038, 3.8e4), 190.0)],
-                     lambda n: n, "force", "test")
+    return _cand("viscous_friction", NewParam("f.b", 0.38, (0.0, 3.8e4), (0.038, 3.8e4), 190.0))
 
 
 def _fit_b(value, se, cost):
-    return {"names": ["f.b"], "estimates": [value], "stderr": [se], "cost": cost}
+    return _fit(value, se, cost, "f.b")
 
 
 def test_an_estimate_resolved_inside_its_bound_is_not_at_it():
