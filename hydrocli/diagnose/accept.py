@@ -6,7 +6,7 @@
    by more than a look-elsewhere margin, ``LOOK_ELSEWHERE`` of the measurement-noise floor
    (``stats.noise_esr``), AND by at least ``MIN_REL`` of the base model's validation error
    above that floor (``MIN_REL_LATER`` for a second or third effect);
-3. every new parameter is plausible (inside its plausibility range, not at a bound), and
+3. every new parameter is plausible (inside its plausibility range, not held by a bound: :func:`_at_bound`), and
    the primary ones — those that say how large the effect is — are well determined (inflated
    standard error < ``MAX_REL_SE`` of the effect's size). Companion parameters (a stop's
    contact stiffness, a compliance's damping, an air law's exponent and dissolution pressure)
