@@ -90,12 +90,17 @@ def effective_n(model: Model, exps: list[Experiment], Ys: list[np.ndarray], outp
 
 
 def sensitivities(obj: Objective, p: np.ndarray, index: list[int], steps: list[float],
-                  r0: np.ndarray | None = None) -> np.ndarray:
-    """Columns (r(p + h_j e_j) − r(p))/h_j: output sensitivities by forward differences."""
+                  r0: np.ndarray | None = None, memo: dict | None = None) -> np.ndarray:
+    """Columns (r(p + h_j e_j) − r(p))/h_j: output sensitivities by forward differences.
+    ``memo`` ({(j, h): column}, for one ``p``) keeps columns already simulated: secants taken at
+    several sizes of one parameter share every other column."""
     r0 = obj.residuals(p) if r0 is None else r0
+    memo = {} if memo is None else memo
     cols = []
     for i, h in zip(index, steps):
-        q = p.copy()
-        q[i] += h
-        cols.append((obj.residuals(q) - r0) / h)
+        if (i, h) not in memo:
+            q = p.copy()
+            q[i] += h
+            memo[(i, h)] = (obj.residuals(q) - r0) / h
+        cols.append(memo[(i, h)])
     return np.column_stack(cols) if cols else np.zeros((r0.size, 0))

@@ -44,9 +44,10 @@ def screen_one(job: dict) -> dict:
         for shape in _shapes(job["params"]):
             q = model.param_vector(shape, base=p)
             rq = obj.residuals(q) if shape else r0
+            columns: dict = {}   # the probes differ in the primary's size only: the rest is shared
             for probe in _probes(probed):
                 steps = [probe[prm.name] - prm.start for prm in probed]
-                S = residuals.sensitivities(obj, q, idx, steps, rq)
+                S = residuals.sensitivities(obj, q, idx, steps, rq, memo=columns)
                 trial = stats.screen(job["r"], S, job["B"], job["n_eff"])
                 if res is None or trial["dr2"] > res["dr2"]:
                     res, best_shape = trial, shape
