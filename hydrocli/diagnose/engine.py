@@ -654,7 +654,11 @@ def _restrained_first(su: Setup, b: Baseline, free: Stage, accepted: list[dict],
     rnd, acc = _restrained_round(su, b, free, accepted, st, pool, progress)
     clock.lap("round 1 from the restrained base")
     rows = list(rnd.rows)
-    if rnd.accepted is not None and restrain.lag_left_to_the_spool(rnd.accepted["effect"], b.slow_spools, b.restraints):
+    done = rnd.stage      # the model with the accepted effect: where its spool ended
+    after = None if done is None else {n: float(done.p[done.model.param_index(n)])
+                                       for n in b.slow_spools if n in done.model.param_names}
+    if rnd.accepted is not None and restrain.lag_left_to_the_spool(rnd.accepted["effect"], b.slow_spools,
+                                                                   b.restraints, after):
         why = (f"{rnd.accepted['effect']} explains the readings' lag, not the spool's pressed against its "
                "tolerance's ceiling, which delays the motion")
         spool, b_spool, acc_spool = _spool_round(su, b, free, accepted, st, pool, progress, why)

@@ -109,7 +109,7 @@ def slow_spools(ctx: Context, estimates: dict[str, float], bounds: dict[str, tup
     return out
 
 
-def lag_left_to_the_spool(effect: str, slow: dict, restraints: dict) -> bool:
+def lag_left_to_the_spool(effect: str, slow: dict, restraints: dict, after: dict[str, float] | None = None) -> bool:
     """Whether a round that named ``effect`` from the restrained base leaves the spool's pressed lag
     unexplained: ``effect`` is one of the measurement's (``measurement.EFFECTS``: a slow
     transducer) and a spool time constant the base fit pressed against its ceiling (``slow``,
@@ -119,8 +119,19 @@ def lag_left_to_the_spool(effect: str, slow: dict, restraints: dict) -> bool:
     restrained as well, where a slow transducer and a lag upstream of the motion (a delayed
     command, a hose) compete on equal terms (``engine._spool_round``). Dev winch 8 ms command
     delay, seed 164: the transducers and the spool pressed, a slow transducer named from the
-    restrained transducers (held-out motion ESR 0.013 → 0.054 %, noise 0.0013 %)."""
-    return effect in EFFECTS and bool(set(slow) - set(restraints))
+    restrained transducers (held-out motion ESR 0.013 → 0.054 %, noise 0.0013 %).
+
+    ``after``: the spool time constants of the model WITH the named effect (the round's accepted
+    stage). A spool that came back inside its datasheet tolerance there (≤ the restrained ceiling
+    ``slow[name][1]``) was not slow: its lag stood in for the one the named effect now models, and
+    nothing is left to it. A speed read through a filter lags the speed, which a slower spool
+    mimics too (dev counterbalanced lift, second-order speed sensor, seed 196: valve.tau pressed
+    to 11.4 ms, the sensor named in round 1 and replaced by a rod–load link from the restrained
+    spools)."""
+    left = set(slow) - set(restraints)
+    if after is not None:
+        left = {n for n in left if not after.get(n, float("inf")) <= slow[n][1]}
+    return effect in EFFECTS and bool(left)
 
 
 PINNED = 1e-3   # share of its bound a restrained parameter keeps free when the free fit ended on that bound

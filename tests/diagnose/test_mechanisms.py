@@ -676,6 +676,11 @@ def test_a_slow_transducer_does_not_explain_a_slow_spool():
     assert not restrain.lag_left_to_the_spool("sensor_lag", {}, sensors)
     for effect in ("input_delay", "line_dynamics", "entrained_air"):
         assert not restrain.lag_left_to_the_spool(effect, slow, sensors)
+    # the model with the transducer still presses the spool beyond its tolerance: left to it
+    assert restrain.lag_left_to_the_spool("sensor_lag", slow, sensors, {"valve.tau": 5.5e-3})
+    # the transducer brought the spool back inside its tolerance: its lag was the transducer's
+    assert not restrain.lag_left_to_the_spool("sensor_lag", slow, sensors, {"valve.tau": 4.0e-3})
+    assert not restrain.lag_left_to_the_spool("sensor_lag", slow, sensors, {"valve.tau": 4.6e-3})
 
 
 def test_a_slow_transducer_named_with_a_spool_at_its_ceiling_is_tried_again_with_the_spool_restrained(monkeypatch):
@@ -691,7 +696,7 @@ def test_a_slow_transducer_named_with_a_spool_at_its_ceiling_is_tried_again_with
     first, calls = {}, []
 
     def restrained_round(su, b_, free, accepted, st, pool, progress):
-        return SimpleNamespace(accepted=first["accepted"], rows=["r1"]), accepted + ["first"]
+        return SimpleNamespace(accepted=first["accepted"], rows=["r1"], stage=first.get("stage")), accepted + ["first"]
 
     def spool_round(su, b_, free, accepted, st, pool, progress, why):
         calls.append((list(accepted), why))
@@ -714,6 +719,17 @@ def test_a_slow_transducer_named_with_a_spool_at_its_ceiling_is_tried_again_with
     first.update(accepted={"effect": "input_delay"}, spool={"effect": "line_dynamics"})
     rnd, b2, acc, rows = run()
     assert rnd.accepted["effect"] == "input_delay" and b2 is b and rows == ["r1"] and not calls
+    # the transducer named, and the model with it has its spool back inside the datasheet's
+    # tolerance (≤ 4.6 ms): the spool's lag was the transducer's, no second round
+    model = SimpleNamespace(param_names=["valve.tau"], param_index=lambda n: 0)
+    first.update(accepted={"effect": "sensor_lag"}, spool={"effect": "input_delay"},
+                 stage=SimpleNamespace(p=np.array([4.0e-3]), model=model))
+    rnd, b2, acc, rows = run()
+    assert rnd.accepted["effect"] == "sensor_lag" and b2 is b and not calls
+    # still pressed beyond it (5.5 ms): tried again with the spool restrained
+    first.update(stage=SimpleNamespace(p=np.array([5.5e-3]), model=model))
+    rnd, b2, acc, rows = run()
+    assert rnd.accepted["effect"] == "input_delay" and len(calls) == 1
 
 
 def test_actuator_bulk_modulus_below_oil_is_restrained_and_hoses_are_not(tmp_path):
