@@ -646,7 +646,8 @@ def diagnose(machine, train_paths, validate_paths, settings: Settings | None = N
 def _restrained_first(su: Setup, b: Baseline, free: Stage, accepted: list[dict], st: Settings, pool, progress,
                       clock: StepClock):
     """Round 1 from the restrained base (:func:`_restrained_round`) and, when it names a slow
-    transducer while a spool pressed against its ceiling stayed free
+    transducer while a spool pressed against its ceiling stayed free and the model with the
+    transducer still presses it beyond the datasheet's tolerance
     (:func:`restrain.lag_left_to_the_spool`), round 1 again with that spool restrained too
     (:func:`_spool_round`), whose answer stands when it accepts anything (a slow transducer
     among the candidates). Returns (the round, the baseline it ran from, the accepted list to
