@@ -8,7 +8,7 @@ quantisation of that record, as an ESR %) it prints the ratio estimate / truth o
 estimators of the white-noise variance, both from the second differences d = Δ²y
 (Var d = 6σ² for white noise):
 
-- ``mad``: the diagnosis's ``stats.noise_variance``, (1.4826 · MAD(d))² / 6;
+- ``mad``: the diagnosis's ``stats.noise_esr`` (``noise_variance``), (1.4826 · MAD(d))² / 6;
 - ``trimmed``: the variance of d after dropping |d − median| > 5 robust σ, / 6.
 
 A median of a quantised signal's differences lands on the sensor's lattice, so ``mad`` moves
@@ -39,7 +39,8 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from hydrocli.diagnose.stats import noise_variance  # noqa: E402
+from bench_diagnose_family import find_cases  # noqa: E402  (the family's case listing)
+from hydrocli.diagnose.stats import noise_esr  # noqa: E402
 
 TRIM = 5.0   # robust σ beyond which a second difference is an event of the motion, not noise
 
@@ -68,7 +69,7 @@ def case_ratios(folder: Path) -> list[dict]:
         if truth <= 0 or vy <= 0:
             continue
         rows.append({"case": va["case"], "machine": va["machine"], "output": out, "truth": truth,
-                     "mad": 100.0 * noise_variance(y) / vy / truth,
+                     "mad": noise_esr(y) / truth,
                      "trimmed": 100.0 * trimmed_noise_variance(y) / vy / truth})
     return rows
 
@@ -83,13 +84,7 @@ def main(argv=None) -> int:
     ap.add_argument("--data", type=Path, required=True)
     ap.add_argument("--split", choices=("dev", "heldout", "all"), default="all")
     a = ap.parse_args(argv)
-    rows = []
-    for side in sorted(a.data.glob("*/*/validate.json")):
-        if side.parent.name.startswith("."):
-            continue
-        if a.split != "all" and json.loads(side.read_text()).get("split") != a.split:
-            continue
-        rows += case_ratios(side.parent)
+    rows = [r for folder in find_cases(a.data, a.split, None, None, None) for r in case_ratios(folder)]
     if not rows:
         print(f"no cases under {a.data}", file=sys.stderr)
         return 2
