@@ -8,22 +8,22 @@ quantisation of that record, as an ESR %) it prints the ratio estimate / truth o
 estimators of the white-noise variance, both from the second differences d = Δ²y
 (Var d = 6σ² for white noise):
 
-- ``mad``: the diagnosis's ``stats.noise_esr`` (``noise_variance``), (1.4826 · MAD(d))² / 6;
-- ``trimmed``: the variance of d after dropping |d − median| > 5 robust σ, / 6.
+- ``mad``: the estimator the diagnosis used until session 72, (1.4826 · MAD(d))² / 6;
+- ``current``: the diagnosis's ``stats.noise_esr`` since session 72, the variance of d after
+  dropping |d − median| > 3.5 robust σ, corrected for the truncation, / 6.
 
 A median of a quantised signal's differences lands on the sensor's lattice, so ``mad`` moves
-by up to a lattice step's share of the spread; the variance does not. Measured in session 71:
+by up to a lattice step's share of the spread; the variance does not. Measured in session 71
+(trimmed at 5 σ) and session 72 (at 3.5 σ with the correction):
 
-- held-out seed 197 (18 cases, 54 outputs): ``mad`` 1.007 ± 0.033 (0.926 … 1.077), ``trimmed``
-  1.002 ± 0.016 (0.972 … 1.086, the high one an EHA record whose own motion reaches the
-  differences); three dev lift_cbv nulls (s199–200, 9 outputs): ``mad`` 0.985 ± 0.038,
-  ``trimmed`` 1.002 ± 0.005;
+- held-out seed 197 (18 cases, 54 outputs) and three dev lift_cbv nulls (s199–200, 9 outputs),
+  63 outputs: ``mad`` 1.004 ± 0.035 (0.926 … 1.077); trimmed at 5 σ 1.002 ± 0.015
+  (0.972 … 1.086, the high one an EHA record whose own motion reaches the differences);
+  ``current`` 1.002 ± 0.014 (0.973 … 1.075);
 - Gaussian noise σ = 0.9–1.3 mm/s quantised to 0.1 mm/s (the lifts' speed sensor), 20 000
   samples, 30 draws each: ``mad`` has a spread of 0.00–0.06 by σ (at σ = 0.9 it sits at 1.018
-  in every draw, locked to the lattice); ``trimmed`` 0.996–1.001 ± 0.012–0.017.
-
-Nothing in the diagnosis uses ``trimmed`` yet: a floor that moves changes which rounds run and
-which effects pass, so switching needs the benchmark rescored.
+  in every draw, locked to the lattice); trimmed 0.996–1.001 ± 0.012–0.017
+  (tests/diagnose/test_stats.py keeps the current estimator within 4 % there).
 """
 from __future__ import annotations
 
@@ -42,19 +42,12 @@ if str(ROOT) not in sys.path:
 from bench_diagnose_family import find_cases  # noqa: E402  (the family's case listing)
 from hydrocli.diagnose.stats import noise_esr  # noqa: E402
 
-TRIM = 5.0   # robust σ beyond which a second difference is an event of the motion, not noise
-
-
-def trimmed_noise_variance(y: np.ndarray) -> float:
-    """White-noise variance from the second differences: their variance after dropping those
-    beyond ``TRIM`` robust σ (1.4826 · MAD), / 6."""
+def mad_noise_variance(y: np.ndarray) -> float:
+    """The estimator used until session 72: (1.4826 · MAD(Δ²y))² / 6."""
     d = np.diff(np.asarray(y, float), 2)
     if d.size < 3:
         return 0.0
-    c = np.median(d)
-    s = 1.4826 * np.median(np.abs(d - c))
-    kept = d[np.abs(d - c) <= TRIM * s] if s > 0 else d
-    return float(np.var(kept)) / 6.0
+    return float((1.4826 * np.median(np.abs(d - np.median(d)))) ** 2) / 6.0
 
 
 def case_ratios(folder: Path) -> list[dict]:
@@ -69,8 +62,8 @@ def case_ratios(folder: Path) -> list[dict]:
         if truth <= 0 or vy <= 0:
             continue
         rows.append({"case": va["case"], "machine": va["machine"], "output": out, "truth": truth,
-                     "mad": noise_esr(y) / truth,
-                     "trimmed": 100.0 * trimmed_noise_variance(y) / vy / truth})
+                     "mad": 100.0 * mad_noise_variance(y) / vy / truth,
+                     "current": noise_esr(y) / truth})
     return rows
 
 
@@ -88,12 +81,12 @@ def main(argv=None) -> int:
     if not rows:
         print(f"no cases under {a.data}", file=sys.stderr)
         return 2
-    print(f"{'case':58s} {'out':3s} {'truth %':>9s} {'mad':>6s} {'trimmed':>8s}")
+    print(f"{'case':58s} {'out':3s} {'truth %':>9s} {'mad':>6s} {'current':>8s}")
     for r in rows:
-        print(f"{r['case']:58s} {r['output']:3s} {r['truth']:9.4f} {r['mad']:6.3f} {r['trimmed']:8.3f}")
+        print(f"{r['case']:58s} {r['output']:3s} {r['truth']:9.4f} {r['mad']:6.3f} {r['current']:8.3f}")
     print(f"\n{len(rows)} outputs; estimate / truth:")
-    print(f"  mad (the diagnosis's)  {summary([r['mad'] for r in rows])}")
-    print(f"  trimmed variance       {summary([r['trimmed'] for r in rows])}")
+    print(f"  mad (until session 72)      {summary([r['mad'] for r in rows])}")
+    print(f"  current (stats.noise_esr)   {summary([r['current'] for r in rows])}")
     return 0
 
 
