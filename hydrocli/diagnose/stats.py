@@ -86,7 +86,7 @@ def noise_variance(y: np.ndarray) -> float:
         return 0.0
     c = float(np.median(d))
     s = 1.4826 * float(np.median(np.abs(d - c)))
-    if s <= 0.0:
+    if s <= 0.0:     # over half the d equal (a lattice coarser than the noise): no scale to trim by
         return float(np.var(d)) / 6.0
     kept = d[np.abs(d - c) <= NOISE_TRIM * s]
     return float(np.var(kept)) / 6.0 / _TRUNC_VAR

@@ -42,6 +42,7 @@ if str(ROOT) not in sys.path:
 from bench_diagnose_family import find_cases  # noqa: E402  (the family's case listing)
 from hydrocli.diagnose.stats import noise_esr  # noqa: E402
 
+
 def mad_noise_variance(y: np.ndarray) -> float:
     """The estimator used until session 72: (1.4826 · MAD(Δ²y))² / 6."""
     d = np.diff(np.asarray(y, float), 2)
